@@ -1,0 +1,25 @@
+"""symkin: singular configurations of mechanisms by the geometric-matrix method.
+
+Altuzarra, Pinto, Avilés, Hernández, "A practical procedure to analyze singular
+configurations in closed kinematic chains", IEEE T-RO 20(6), 2004.
+
+>>> import symkin
+>>> result = symkin.analyze(symkin.catalogue.get("fourbar_flat"))
+>>> result.dof, result.types
+(2, ('IM',))
+"""
+from symkin import catalogue
+from symkin.analysis.classification import Analysis, Motion, Relation, analyze
+from symkin.analysis.motion_space import MotionSpace, motion_space
+from symkin.errors import ModelError, ModelFileError, NotConvergedError, SymkinError
+from symkin.model.mechanism import Mechanism, Parameter, Slider
+from symkin.model.model_file import read_model, write_model
+from symkin.numeric.geometric_matrix import geometric_matrix
+from symkin.tolerances import Tolerances
+
+__version__ = "0.1.0"
+
+__all__ = ["Analysis", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
+           "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
+           "analyze", "catalogue", "geometric_matrix", "motion_space", "read_model", "write_model",
+           "__version__"]

@@ -1,0 +1,153 @@
+"""Named mechanisms shared by tests, doctests, notebooks and benchmarks.
+
+Each entry is a function returning the model dictionary (the model-file schema), so a
+test can modify a copy before building it.  :func:`get` builds the mechanism.
+Geometries are chosen so that every coordinate is exact in binary floating point where
+a singular configuration depends on it.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+from symkin.model.mechanism import Mechanism
+
+__all__ = ["get", "names", "data"]
+
+_ENTRIES: dict[str, Callable[[], dict]] = {}
+
+
+def _entry(fn: Callable[[], dict]) -> Callable[[], dict]:
+    _ENTRIES[fn.__name__] = fn
+    return fn
+
+
+@_entry
+def fourbar_appendix() -> dict:
+    """The four-bar of the paper's appendix (Fig. 17) in a generic configuration."""
+    return {
+        "name": "four-bar of the paper's appendix", "dim": 2, "fixed": ["A", "D"],
+        "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
+        "nodes": {"A": [0.0, 0.0], "B": [0.2, 0.9], "C": [2.1, 1.3], "D": [2.0, 0.0]},
+        "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
+    }
+
+
+@_entry
+def fourbar_dead_centre() -> dict:
+    """Crank-rocker at the extended dead centre: crank and coupler aligned (DKP-output).
+
+    A=(0,0), D=(4,0), crank 1, coupler 3, rocker 3: B=(1,0)·R, C on the extension of A→B
+    at distance 4 from A.  With the crank along +x rotated by acos(...) the exact point
+    is messy; instead the crank lies along the x axis rotated so that C is exact:
+    B = (0.6, 0.8), C = 4·(0.6, 0.8) = (2.4, 3.2), |DC| = |(−1.6, 3.2)| = sqrt(12.8).
+    """
+    return {
+        "name": "crank-rocker at a dead centre (crank and coupler aligned)", "dim": 2,
+        "fixed": ["A", "D"], "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
+        "nodes": {"A": [0.0, 0.0], "B": [0.6, 0.8], "C": [2.4, 3.2], "D": [4.0, 0.0]},
+        "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
+    }
+
+
+@_entry
+def fourbar_flat() -> dict:
+    """Four-bar with all four joints on a line (IM: L = 2)."""
+    return {
+        "name": "flattened four-bar (increased mobility)", "dim": 2, "fixed": ["A", "D"],
+        "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
+        "nodes": {"A": [0.0, 0.0], "B": [1.0, 0.0], "C": [3.0, 0.0], "D": [4.0, 0.0]},
+        "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
+    }
+
+
+@_entry
+def slider_crank() -> dict:
+    """Offset slider-crank: crank A-B, connecting rod B-C, slider C on the line y = 0.25."""
+    return {
+        "name": "offset slider-crank", "dim": 2, "fixed": ["A"],
+        "inputs": [{"rotation": "crank"}], "outputs": [{"slide": "piston"}],
+        "nodes": {"A": [0.0, 0.0], "B": [0.6, 0.8], "C": [3.5, 0.25]},
+        "links": {"crank": ["A", "B"], "rod": ["B", "C"]},
+        "sliders": [{"id": "piston", "node": "C", "point": [0.0, 0.25], "direction": [1.0, 0.0]}],
+    }
+
+
+def _rrr_3(platform_angle: float = 0.0, name: str = "3-RRR planar parallel manipulator") -> dict:
+    """3-RRR with base joints on a circle of radius 4, platform triangle of circumradius 1."""
+    nodes, links = {}, {}
+    r_base, r_pf, l1 = 4.0, 1.0, 2.0
+    cx, cy = 0.0, 0.0
+    for k in range(3):
+        a = 2 * math.pi * k / 3 + math.pi / 2
+        base = (r_base * math.cos(a), r_base * math.sin(a))
+        pf = (cx + r_pf * math.cos(a + platform_angle), cy + r_pf * math.sin(a + platform_angle))
+        # elbow: circle of radius l1 about the base meets circle about the platform joint
+        dx, dy = pf[0] - base[0], pf[1] - base[1]
+        d = math.hypot(dx, dy)
+        l2 = 2.5
+        along = (l1 * l1 - l2 * l2 + d * d) / (2 * d)
+        h = math.sqrt(max(l1 * l1 - along * along, 0.0))
+        ex = (base[0] + along * dx / d - h * dy / d, base[1] + along * dy / d + h * dx / d)
+        nodes[f"A{k + 1}"], nodes[f"B{k + 1}"], nodes[f"C{k + 1}"] = list(base), list(ex), list(pf)
+        links[f"crank{k + 1}"] = [f"A{k + 1}", f"B{k + 1}"]
+        links[f"distal{k + 1}"] = [f"B{k + 1}", f"C{k + 1}"]
+    links["platform"] = ["C1", "C2", "C3"]
+    return {"name": name, "dim": 2, "fixed": ["A1", "A2", "A3"],
+            "inputs": [{"rotation": f"crank{k}"} for k in (1, 2, 3)],
+            "outputs": [{"twist": "platform"}], "platform": "platform", "platform_dof": 3,
+            "nodes": nodes, "links": links}
+
+
+@_entry
+def rrr_3() -> dict:
+    """A 3-RRR planar parallel manipulator in a regular configuration."""
+    return _rrr_3(0.1)
+
+
+@_entry
+def five_bar() -> dict:
+    """Five-bar (2RR) planar parallel manipulator, end-effector P, generic configuration."""
+    return {
+        "name": "five-bar (2RR)", "dim": 2, "fixed": ["A1", "A2"],
+        "inputs": [{"rotation": "crank1"}, {"rotation": "crank2"}], "outputs": [{"velocity": "P"}],
+        "nodes": {"A1": [-1.0, 0.0], "A2": [1.0, 0.0], "B1": [-1.6, 0.8], "B2": [1.6, 0.8],
+                  "P": [0.0, 2.0]},
+        "links": {"crank1": ["A1", "B1"], "crank2": ["A2", "B2"], "distal1": ["B1", "P"],
+                  "distal2": ["B2", "P"]},
+    }
+
+
+@_entry
+def rssr() -> dict:
+    """Spatial RSSR four-bar: input crank about z, output rocker about x, coupler rod."""
+    return {
+        "name": "RSSR spatial four-bar", "dim": 3, "fixed": ["O1", "O1b", "O2", "O2b"],
+        "inputs": [{"rotation": "crank", "axis": ["O1", "O1b"]}],
+        "outputs": [{"rotation": "rocker", "axis": ["O2", "O2b"]}],
+        "nodes": {"O1": [0.0, 0.0, 0.0], "O1b": [0.0, 0.0, 1.0], "B": [1.0, 0.0, 0.0],
+                  "O2": [3.0, 0.0, 1.0], "O2b": [4.0, 0.0, 1.0], "C": [3.0, 1.0, 2.0]},
+        "links": {"crank": ["O1", "O1b", "B"], "coupler": ["B", "C"], "rocker": ["O2", "O2b", "C"]},
+    }
+
+
+def names() -> tuple[str, ...]:
+    """Names of the catalogue's mechanisms."""
+    return tuple(_ENTRIES)
+
+
+def data(name: str) -> dict:
+    """The model dictionary of catalogue entry ``name`` (a fresh copy)."""
+    try:
+        return _ENTRIES[name]()
+    except KeyError:
+        raise KeyError(f"no mechanism {name!r} in the catalogue; known: {', '.join(_ENTRIES)}") from None
+
+
+def get(name: str) -> Mechanism:
+    """Build catalogue entry ``name``.
+
+    >>> get("fourbar_appendix").dim
+    2
+    """
+    return Mechanism.from_dict(data(name), source=f"catalogue:{name}")

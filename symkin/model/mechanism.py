@@ -1,0 +1,260 @@
+"""The mechanism as plain, hashable data: nodes, links, sliders, kinematic parameters.
+
+Nothing here knows about matrices; :mod:`symkin.numeric` and :mod:`symkin.symbolic`
+turn a :class:`Mechanism` into geometric matrices.  A mechanism is built from a model
+file (:func:`symkin.read_model`) or from the same dictionary in Python
+(:meth:`Mechanism.from_dict`); both go through :func:`symkin.model.validation.parse_mechanism`,
+which checks everything and reports every problem at once.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field, replace
+from typing import Iterable, Mapping
+
+__all__ = ["Slider", "Parameter", "Mechanism", "AXES", "TWIST_COMPONENTS"]
+
+AXES = ("x", "y", "z")
+#: component names of a twist (velocity of the link's first node, then angular velocity)
+TWIST_COMPONENTS = {2: ("vx", "vy", "wz"), 3: ("vx", "vy", "vz", "wx", "wy", "wz")}
+
+
+@dataclass(frozen=True)
+class Slider:
+    """A node constrained to a line or a plane.
+
+    Exactly one of three forms (see the README's model-file reference):
+
+    * ``point`` + ``direction``: the node slides on a fixed line;
+    * ``line = (A, C)`` + ``link``: the node slides on the moving line through nodes A and C
+      of ``link`` (combined with a second such slider it makes a prismatic pair);
+    * ``point`` + ``normal`` (spatial only): the node slides on a fixed plane.
+    """
+
+    id: str
+    node: str
+    point: tuple[float, ...] | None = None
+    direction: tuple[float, ...] | None = None
+    normal: tuple[float, ...] | None = None
+    line: tuple[str, str] | None = None
+    link: str | None = None
+
+    @property
+    def kind(self) -> str:
+        """``"line"`` (fixed line), ``"moving_line"`` or ``"plane"``."""
+        if self.line is not None:
+            return "moving_line"
+        if self.normal is not None:
+            return "plane"
+        return "line"
+
+    def to_dict(self) -> dict:
+        out: dict = {"id": self.id, "node": self.node}
+        for key in ("point", "direction", "normal"):
+            value = getattr(self, key)
+            if value is not None:
+                out[key] = list(value)
+        if self.line is not None:
+            out["line"] = list(self.line)
+            out["link"] = self.link
+        return out
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A kinematic parameter: a linear functional (or a few) of the nodal velocities.
+
+    ``kind`` is one of ``rotation``, ``slide``, ``velocity``, ``twist``, ``joint``;
+    ``target`` names what it belongs to (a link, a slider, a node, or two links for a
+    joint).  ``axis`` is a pair of node names or a vector (spatial rotations);
+    ``component`` picks one axis of a velocity (``"x"``, ``"y"``, ``"z"``).
+    """
+
+    kind: str
+    target: tuple[str, ...]
+    axis: tuple | None = None
+    component: str | None = None
+    label: str | None = None
+
+    def labels(self, dim: int) -> tuple[str, ...]:
+        """Labels of the scalar rows, e.g. ``rotation:crank`` or ``twist:platform.wz``."""
+        base = self.label or self._base_label()
+        if self.kind == "velocity":
+            comps = (self.component,) if self.component else AXES[:dim]
+            return tuple(f"{base}.{c}" for c in comps)
+        if self.kind == "twist":
+            return tuple(f"{base}.{c}" for c in TWIST_COMPONENTS[dim])
+        return (base,)
+
+    def _base_label(self) -> str:
+        if self.kind == "joint":
+            return f"joint:{self.target[0]}-{self.target[1]}"
+        if self.kind == "rotation" and self.axis is not None and isinstance(self.axis[0], str):
+            return f"rotation:{self.target[0]}[{self.axis[0]}-{self.axis[1]}]"
+        if self.kind == "rotation" and self.axis is not None:
+            return f"rotation:{self.target[0]}[{','.join(f'{a:g}' for a in self.axis)}]"
+        return f"{self.kind}:{self.target[0]}"
+
+    def size(self, dim: int) -> int:
+        """Number of scalar rows."""
+        return len(self.labels(dim))
+
+    def to_dict(self) -> dict:
+        out: dict = {self.kind: list(self.target) if self.kind == "joint" else self.target[0]}
+        if self.axis is not None:
+            out["axis"] = list(self.axis)
+        if self.component is not None:
+            out["component"] = self.component
+        if self.label is not None:
+            out["label"] = self.label
+        return out
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A mechanism at one configuration.
+
+    Attributes are tuples so that a mechanism is hashable and can key caches.  Use
+    :meth:`coordinates`, :meth:`link_nodes` and friends rather than the raw tuples.
+
+    Examples
+    --------
+    >>> from symkin import Mechanism
+    >>> m = Mechanism.from_dict({
+    ...     "name": "four-bar", "dim": 2, "fixed": ["A", "D"],
+    ...     "inputs": [{"rotation": "crank"}],
+    ...     "nodes": {"A": [0, 0], "B": [0.2, 0.9], "C": [2.1, 1.3], "D": [2, 0]},
+    ...     "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]}})
+    >>> m.mobility_value, m.free_nodes
+    (1, ('B', 'C'))
+    """
+
+    name: str
+    dim: int
+    nodes: tuple[tuple[str, tuple[float, ...]], ...]
+    links: tuple[tuple[str, tuple[str, ...]], ...]
+    fixed: tuple[str, ...] = ()
+    sliders: tuple[Slider, ...] = ()
+    inputs: tuple[Parameter, ...] = ()
+    outputs: tuple[Parameter, ...] = ()
+    mobility: int | None = None
+    platform: str | None = None
+    platform_dof: int | None = None
+    description: str = field(default="", compare=False)
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_dict(cls, data: Mapping, source: str | None = None) -> "Mechanism":
+        """Build and validate a mechanism from the model-file dictionary (README schema)."""
+        from symkin.model.validation import parse_mechanism
+
+        return parse_mechanism(data, source=source)
+
+    def to_dict(self) -> dict:
+        """The model-file dictionary; ``Mechanism.from_dict(m.to_dict()) == m``."""
+        out: dict = {"name": self.name, "dim": self.dim, "fixed": list(self.fixed)}
+        if self.description:
+            out["description"] = self.description
+        if self.mobility is not None:
+            out["mobility"] = self.mobility
+        out["inputs"] = [p.to_dict() for p in self.inputs]
+        out["outputs"] = [p.to_dict() for p in self.outputs]
+        if self.platform is not None:
+            out["platform"] = self.platform
+        if self.platform_dof is not None:
+            out["platform_dof"] = self.platform_dof
+        out["nodes"] = {name: list(xyz) for name, xyz in self.nodes}
+        out["links"] = {name: list(ns) for name, ns in self.links}
+        if self.sliders:
+            out["sliders"] = [s.to_dict() for s in self.sliders]
+        return out
+
+    def with_coordinates(self, coords: Mapping[str, Iterable[float]] | Iterable) -> "Mechanism":
+        """A copy at another configuration (same topology, parameters, sliders).
+
+        ``coords`` maps node names to coordinates, or is an (n, dim) array in node order.
+        No validation is repeated: this is the fast path used along paths and meshes.
+        """
+        if isinstance(coords, Mapping):
+            new = tuple((n, tuple(float(v) for v in coords.get(n, xyz))) for n, xyz in self.nodes)
+        else:
+            rows = [tuple(float(v) for v in row) for row in coords]
+            new = tuple((n, row) for (n, _), row in zip(self.nodes, rows))
+        return replace(self, nodes=new)
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def node_names(self) -> tuple[str, ...]:
+        return tuple(n for n, _ in self.nodes)
+
+    @property
+    def link_names(self) -> tuple[str, ...]:
+        return tuple(n for n, _ in self.links)
+
+    def coordinates(self) -> dict[str, tuple[float, ...]]:
+        """Node name → coordinates."""
+        return dict(self.nodes)
+
+    def link_nodes(self, link: str) -> tuple[str, ...]:
+        return dict(self.links)[link]
+
+    def node_index(self) -> dict[str, int]:
+        return {n: i for i, (n, _) in enumerate(self.nodes)}
+
+    @property
+    def free_nodes(self) -> tuple[str, ...]:
+        fixed = set(self.fixed)
+        return tuple(n for n in self.node_names if n not in fixed)
+
+    @property
+    def ground_links(self) -> tuple[str, ...]:
+        """Links whose nodes are all fixed."""
+        fixed = set(self.fixed)
+        return tuple(name for name, ns in self.links if all(n in fixed for n in ns))
+
+    @property
+    def moving_links(self) -> tuple[str, ...]:
+        ground = set(self.ground_links)
+        return tuple(name for name in self.link_names if name not in ground)
+
+    def slider(self, ref: str) -> Slider:
+        """The slider named ``ref``: by id, or by node when the node has one slider."""
+        for s in self.sliders:
+            if s.id == ref:
+                return s
+        on_node = [s for s in self.sliders if s.node == ref]
+        if len(on_node) == 1:
+            return on_node[0]
+        raise KeyError(ref)
+
+    @property
+    def n_inputs(self) -> int:
+        return sum(p.size(self.dim) for p in self.inputs)
+
+    @property
+    def n_outputs(self) -> int:
+        return sum(p.size(self.dim) for p in self.outputs)
+
+    @property
+    def mobility_value(self) -> int:
+        """Full-cycle mobility F: ``mobility`` if given, else the number of scalar inputs."""
+        return self.mobility if self.mobility is not None else self.n_inputs
+
+    @property
+    def length_scale(self) -> float:
+        """Mean distance between the node pairs inside links: the model's own unit of length."""
+        xyz = self.coordinates()
+        total, count = 0.0, 0
+        for _, ns in self.links:
+            for i in range(len(ns)):
+                for j in range(i + 1, len(ns)):
+                    total += math.dist(xyz[ns[i]], xyz[ns[j]])
+                    count += 1
+        return total / count if count and total > 0 else 1.0
+
+    def content_hash(self) -> str:
+        """SHA-256 of the canonical JSON form (keys caches of generated code)."""
+        text = json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()

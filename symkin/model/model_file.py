@@ -1,0 +1,114 @@
+"""Read and write model files (TOML or JSON, one schema; see the README)."""
+from __future__ import annotations
+
+import json
+import re
+import tomllib
+from pathlib import Path
+
+from symkin.errors import ModelError, ModelFileError, Problem
+from symkin.model.mechanism import Mechanism
+from symkin.model.validation import parse_mechanism
+
+__all__ = ["read_model", "write_model", "load_model_data"]
+
+
+def _reject_duplicates(pairs):
+    seen = {}
+    for key, value in pairs:
+        if key in seen:
+            raise ValueError(f"duplicate key {key!r}")
+        seen[key] = value
+    return seen
+
+
+def load_model_data(path: str | Path) -> dict:
+    """The raw dictionary of a model file; malformed files raise :class:`ModelFileError`."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ModelFileError(path, [Problem("", "no such file")]) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ModelFileError(path, [Problem("", f"cannot read the file ({exc})")]) from None
+    suffix = path.suffix.lower()
+    if suffix == ".json":
+        try:
+            return json.loads(text, object_pairs_hook=_reject_duplicates)
+        except json.JSONDecodeError as exc:
+            raise ModelFileError(path, [Problem(f"line {exc.lineno}", f"malformed JSON: {exc.msg}")],
+                                 line=exc.lineno) from None
+        except ValueError as exc:
+            raise ModelFileError(path, [Problem("", f"malformed JSON: {exc}")]) from None
+    if suffix == ".toml":
+        try:
+            return tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            match = re.search(r"line (\d+)", str(exc))
+            line = int(match.group(1)) if match else None
+            raise ModelFileError(path, [Problem(f"line {line}" if line else "", f"malformed TOML: {exc}")],
+                                 line=line) from None
+    raise ModelFileError(path, [Problem("", f"unknown model file type {path.suffix!r}: use .toml or .json")])
+
+
+def read_model(path: str | Path) -> Mechanism:
+    """Read and validate a model file.
+
+    Raises
+    ------
+    ModelFileError
+        For a missing or malformed file, or one that describes an invalid mechanism;
+        ``.problems`` lists every problem with the key, node or link at fault.
+
+    Examples
+    --------
+    >>> import symkin, pathlib
+    >>> m = symkin.read_model(pathlib.Path(symkin.__file__).parents[1] / "papers_examples" / "fourbar_appendix.toml")
+    >>> m.link_names
+    ('crank', 'coupler', 'rocker')
+    """
+    path = Path(path)
+    data = load_model_data(path)
+    if isinstance(data, dict) and "name" not in data:
+        data = {"name": path.stem, **data}
+    try:
+        return parse_mechanism(data, source=str(path))
+    except ModelError as exc:
+        raise ModelFileError(path, exc.problems) from None
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
+    raise TypeError(f"cannot write {value!r} to TOML")
+
+
+def write_model(mechanism: Mechanism, path: str | Path) -> Path:
+    """Write ``mechanism`` as TOML or JSON (by the file's suffix); returns the path.
+
+    The file is written to a temporary name first and renamed, so a failure leaves
+    nothing half-written.
+    """
+    path = Path(path)
+    data = mechanism.to_dict()
+    if path.suffix.lower() == ".json":
+        text = json.dumps(data, indent=2) + "\n"
+    elif path.suffix.lower() == ".toml":
+        lines = [f"{k} = {_toml_value(v)}" for k, v in data.items() if k not in ("nodes", "links")]
+        lines += ["", "[nodes]"] + [f"{k} = {_toml_value(v)}" for k, v in data["nodes"].items()]
+        lines += ["", "[links]"] + [f"{k} = {_toml_value(v)}" for k, v in data["links"].items()]
+        text = "\n".join(lines) + "\n"
+    else:
+        raise ModelFileError(path, [Problem("", f"unknown model file type {path.suffix!r}: use .toml or .json")])
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+    return path

@@ -1,0 +1,449 @@
+"""Check a model dictionary and build a :class:`~symkin.model.mechanism.Mechanism`.
+
+Everything is checked and every problem is reported at once (one :class:`ModelError`
+whose ``problems`` name the key, node, link or slider at fault).  Nothing here raises
+for a user's mistake except that single error.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+from symkin.errors import ModelError, Problem
+from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider
+from symkin.tolerances import DEFAULT
+
+__all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS"]
+
+TOP_LEVEL_KEYS = ("name", "description", "dim", "fixed", "mobility", "inputs", "outputs",
+                  "platform", "platform_dof", "nodes", "links", "sliders")
+PARAMETER_KINDS = ("rotation", "slide", "velocity", "twist", "joint")
+PARAMETER_KEYS = PARAMETER_KINDS + ("axis", "component", "label")
+SLIDER_KEYS = ("id", "node", "point", "direction", "normal", "line", "link")
+
+
+class _Collector:
+    """Gathers problems while parsing continues."""
+
+    def __init__(self):
+        self.problems: list[Problem] = []
+
+    def add(self, key: str, message: str) -> None:
+        self.problems.append(Problem(key, message))
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _vector(value: Any, dim: int | None, key: str, out: _Collector, what: str = "coordinates"):
+    """A finite numeric vector of length ``dim`` or None (problem recorded)."""
+    if not isinstance(value, (list, tuple)) or not all(_is_number(v) for v in value):
+        out.add(key, f"{what} must be a list of numbers, got {value!r}")
+        return None
+    if dim is not None and len(value) != dim:
+        out.add(key, f"{what} must have {dim} components (dim = {dim}), got {len(value)}")
+        return None
+    if not all(math.isfinite(v) for v in value):
+        out.add(key, f"{what} must be finite, got {list(value)!r}")
+        return None
+    return tuple(float(v) for v in value)
+
+
+def _names(value: Any, key: str, out: _Collector, known: set[str] | None, what: str) -> tuple[str, ...]:
+    if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
+        out.add(key, f"must be a list of {what} names, got {value!r}")
+        return ()
+    if known is not None:
+        for v in value:
+            if v not in known:
+                out.add(key, f"unknown {what} {v!r}")
+    return tuple(value)
+
+
+def _unknown_keys(table: Mapping, allowed: tuple[str, ...], key: str, out: _Collector) -> None:
+    extra = [k for k in table if k not in allowed]
+    if extra:
+        where = f"{key}: " if key else ""
+        out.add(key, f"unknown key(s) {', '.join(map(repr, extra))} "
+                     f"(allowed: {', '.join(allowed)})".replace(where, ""))
+
+
+def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) -> Mechanism:
+    """Validate the model dictionary ``data`` and return the mechanism.
+
+    Raises
+    ------
+    ModelError
+        Listing every problem found; ``source`` (a file name) is recorded on it.
+    """
+    out = _Collector()
+    if not isinstance(data, Mapping):
+        raise ModelError([Problem("", f"a model must be a table/object, got {type(data).__name__}")], source)
+    _unknown_keys(data, TOP_LEVEL_KEYS, "", out)
+
+    name = data.get("name", "unnamed mechanism")
+    if not isinstance(name, str):
+        out.add("name", f"must be a string, got {name!r}")
+        name = str(name)
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        out.add("description", "must be a string")
+        description = ""
+
+    dim = data.get("dim")
+    if dim is None:
+        out.add("dim", "missing: 2 (planar) or 3 (spatial)")
+    elif isinstance(dim, bool) or dim not in (2, 3):
+        out.add("dim", f"must be 2 (planar) or 3 (spatial), got {dim!r}")
+        dim = None
+
+    nodes = _parse_nodes(data.get("nodes"), dim, out)
+    node_set = set(nodes)
+    links = _parse_links(data.get("links"), node_set, out)
+    fixed = _names(data.get("fixed", []), "fixed", out, node_set, "node")
+    for n in {f for f in fixed if fixed.count(f) > 1}:
+        out.add("fixed", f"node {n!r} listed twice")
+
+    scale = _length_scale(nodes, links)
+    _check_link_geometry(nodes, links, scale, tolerances.geometry, out)
+    used = {n for ns in links.values() for n in ns}
+    for n in nodes:
+        if n not in used:
+            out.add(f"nodes.{n}", "node belongs to no link")
+
+    sliders = _parse_sliders(data.get("sliders", []), dim, nodes, links, set(fixed), scale,
+                             tolerances.geometry, out)
+    link_set = set(links)
+    fixed_set = set(fixed)
+    ground = {l for l, ns in links.items() if all(n in fixed_set for n in ns)}
+    context = dict(dim=dim, nodes=nodes, links=links, sliders=sliders, fixed=fixed_set, ground=ground)
+    inputs = _parse_parameters(data.get("inputs", []), "inputs", context, out)
+    outputs = _parse_parameters(data.get("outputs", []), "outputs", context, out)
+
+    mobility = data.get("mobility")
+    if mobility is not None and (isinstance(mobility, bool) or not isinstance(mobility, int) or mobility < 0):
+        out.add("mobility", f"must be a non-negative integer, got {mobility!r}")
+        mobility = None
+
+    platform = data.get("platform")
+    if platform is not None:
+        if not isinstance(platform, str) or platform not in link_set:
+            out.add("platform", f"unknown link {platform!r}")
+            platform = None
+        elif platform in ground:
+            out.add("platform", f"link {platform!r} is ground (all its nodes are fixed)")
+    platform_dof = data.get("platform_dof")
+    if platform_dof is not None:
+        top = 3 if dim == 2 else 6
+        if isinstance(platform_dof, bool) or not isinstance(platform_dof, int) or not 0 <= platform_dof <= top:
+            out.add("platform_dof", f"must be an integer from 0 to {top}, got {platform_dof!r}")
+            platform_dof = None
+        elif platform is None and "platform" not in data:
+            out.add("platform_dof", "given without 'platform'")
+
+    if out.problems:
+        raise ModelError(out.problems, source)
+    return Mechanism(name=name, dim=dim, nodes=tuple(nodes.items()), links=tuple(links.items()),
+                     fixed=fixed, sliders=tuple(sliders), inputs=tuple(inputs), outputs=tuple(outputs),
+                     mobility=mobility, platform=platform, platform_dof=platform_dof,
+                     description=description)
+
+
+# ---------------------------------------------------------------------- parts
+def _parse_nodes(table: Any, dim: int | None, out: _Collector) -> dict[str, tuple[float, ...]]:
+    if table is None:
+        out.add("nodes", "missing: a table of node coordinates")
+        return {}
+    if not isinstance(table, Mapping) or not table:
+        out.add("nodes", "must be a non-empty table of node name = [coordinates]")
+        return {}
+    nodes = {}
+    for name, value in table.items():
+        # an invalid node stays known by name (None) so links naming it get no second complaint
+        nodes[name] = _vector(value, dim, f"nodes.{name}", out)
+    return nodes
+
+
+def _parse_links(table: Any, node_set: set[str], out: _Collector) -> dict[str, tuple[str, ...]]:
+    if table is None:
+        out.add("links", "missing: a table of link name = [node names]")
+        return {}
+    if not isinstance(table, Mapping) or not table:
+        out.add("links", "must be a non-empty table of link name = [node names]")
+        return {}
+    links = {}
+    for name, value in table.items():
+        key = f"links.{name}"
+        ns = _names(value, key, out, node_set, "node")
+        if not ns:
+            continue
+        if len(ns) < 2:
+            out.add(key, f"a link needs at least 2 nodes, got {len(ns)}")
+            continue
+        repeated = sorted({n for n in ns if ns.count(n) > 1})
+        if repeated:
+            out.add(key, f"node(s) {', '.join(repeated)} repeated")
+            continue
+        links[name] = ns
+    return links
+
+
+def _length_scale(nodes, links) -> float:
+    total, count = 0.0, 0
+    for ns in links.values():
+        pts = [nodes.get(n) for n in ns]
+        for i in range(len(pts)):
+            for j in range(i + 1, len(pts)):
+                if pts[i] is not None and pts[j] is not None and len(pts[i]) == len(pts[j]):
+                    total += math.dist(pts[i], pts[j])
+                    count += 1
+    return total / count if count and total > 0 else 1.0
+
+
+def _check_link_geometry(nodes, links, scale, tol, out: _Collector) -> None:
+    for name, ns in links.items():
+        pts = [(n, nodes.get(n)) for n in ns]
+        for i in range(len(pts)):
+            for j in range(i + 1, len(pts)):
+                (a, pa), (b, pb) = pts[i], pts[j]
+                if pa is None or pb is None or len(pa) != len(pb):
+                    continue
+                if math.dist(pa, pb) <= tol * scale:
+                    what = "zero-length bar" if len(ns) == 2 else "coincident nodes in a rigid body"
+                    out.add(f"links.{name}", f"{what}: nodes {a} and {b} are at the same point")
+
+
+def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, out: _Collector) -> list[Slider]:
+    if not isinstance(items, (list, tuple)):
+        out.add("sliders", "must be a list of tables")
+        return []
+    sliders, ids = [], {}
+    per_node: dict[str, int] = {}
+    for item in items:
+        if isinstance(item, Mapping) and isinstance(item.get("node"), str):
+            per_node[item["node"]] = per_node.get(item["node"], 0) + 1
+    for k, item in enumerate(items):
+        key = f"sliders[{k}]"
+        if not isinstance(item, Mapping):
+            out.add(key, "must be a table")
+            continue
+        _unknown_keys(item, SLIDER_KEYS, key, out)
+        node = item.get("node")
+        if not isinstance(node, str) or node not in nodes:
+            out.add(key, f"unknown node {node!r}")
+            continue
+        sid = item.get("id")
+        if sid is None:
+            sid = node if per_node.get(node, 0) == 1 else f"{node}#{k}"
+        if not isinstance(sid, str):
+            out.add(key, f"id must be a string, got {sid!r}")
+            continue
+        key = f"sliders[{k}] ({sid})"
+        if sid in ids:
+            out.add(key, f"duplicate slider id {sid!r}")
+        ids[sid] = k
+        if node in fixed:
+            out.add(key, f"node {node} is fixed; a fixed node cannot slide")
+        has_line = "line" in item or "link" in item
+        has_point = "point" in item
+        forms = [has_line, has_point]
+        if sum(forms) != 1:
+            out.add(key, "give either point + direction (fixed line), point + normal (fixed plane) "
+                         "or line + link (moving line)")
+            continue
+        p = nodes.get(node)
+        if has_line:
+            slider = _moving_line_slider(item, sid, node, p, nodes, links, scale, tol, key, out)
+        else:
+            slider = _fixed_slider(item, sid, node, p, dim, scale, tol, key, out)
+        if slider is not None:
+            sliders.append(slider)
+    return sliders
+
+
+def _fixed_slider(item, sid, node, p, dim, scale, tol, key, out) -> Slider | None:
+    point = _vector(item.get("point"), dim, key, out, "point")
+    if ("direction" in item) == ("normal" in item):
+        out.add(key, "a fixed slider needs exactly one of 'direction' (line) or 'normal' (plane)")
+        return None
+    if "normal" in item and dim == 2:
+        out.add(key, "'normal' (a fixed plane) is for spatial models; use 'direction' in a planar one")
+        return None
+    which = "direction" if "direction" in item else "normal"
+    vec = _vector(item.get(which), dim, key, out, which)
+    if point is None or vec is None:
+        return None
+    norm = math.sqrt(sum(v * v for v in vec))
+    if norm == 0.0:
+        out.add(key, f"zero {which}")
+        return None
+    if p is not None:
+        u = [v / norm for v in vec]
+        d = [a - b for a, b in zip(p, point)]
+        along = sum(a * b for a, b in zip(d, u))
+        off = math.sqrt(max(sum(a * a for a in d) - along * along, 0.0)) if which == "direction" else abs(along)
+        if off > tol * scale:
+            what = "line" if which == "direction" else "plane"
+            out.add(key, f"node {node} is {off:.3g} away from its {what} (tolerance {tol * scale:.3g})")
+    return Slider(id=sid, node=node, point=point, **{which: vec})
+
+
+def _moving_line_slider(item, sid, node, p, nodes, links, scale, tol, key, out) -> Slider | None:
+    line, link = item.get("line"), item.get("link")
+    if "point" in item or "direction" in item or "normal" in item:
+        out.add(key, "a moving-line slider takes 'line' and 'link' only")
+        return None
+    if not (isinstance(line, (list, tuple)) and len(line) == 2 and all(isinstance(n, str) for n in line)):
+        out.add(key, f"line must be two node names, got {line!r}")
+        return None
+    if not isinstance(link, str) or link not in links:
+        out.add(key, f"unknown link {link!r}")
+        return None
+    bad = [n for n in line if n not in links[link]]
+    if bad:
+        out.add(key, f"node(s) {', '.join(bad)} of the line are not nodes of link {link}")
+        return None
+    if node in line:
+        out.add(key, f"node {node} cannot slide on a line through itself")
+        return None
+    a, c = nodes.get(line[0]), nodes.get(line[1])
+    if p is not None and a is not None and c is not None:
+        e = [ci - ai for ai, ci in zip(a, c)]
+        le = math.sqrt(sum(v * v for v in e))
+        if le == 0.0:
+            out.add(key, "the line's two nodes coincide")
+            return None
+        d = [pi - ai for ai, pi in zip(a, p)]
+        along = sum(x * y for x, y in zip(d, e)) / le
+        off = math.sqrt(max(sum(v * v for v in d) - along * along, 0.0))
+        if off > tol * scale:
+            out.add(key, f"node {node} is {off:.3g} away from line {line[0]}-{line[1]} "
+                         f"(tolerance {tol * scale:.3g})")
+    return Slider(id=sid, node=node, line=(line[0], line[1]), link=link)
+
+
+def _parse_parameters(items: Any, where: str, ctx: dict, out: _Collector) -> list[Parameter]:
+    if not isinstance(items, (list, tuple)):
+        out.add(where, "must be a list of tables such as {rotation = \"crank\"}")
+        return []
+    params = []
+    for k, item in enumerate(items):
+        key = f"{where}[{k}]"
+        if not isinstance(item, Mapping):
+            out.add(key, f"must be a table such as {{rotation = \"crank\"}}, got {item!r}")
+            continue
+        _unknown_keys(item, PARAMETER_KEYS, key, out)
+        kinds = [kd for kd in PARAMETER_KINDS if kd in item]
+        if len(kinds) != 1:
+            out.add(key, f"needs exactly one of {', '.join(PARAMETER_KINDS)}")
+            continue
+        param = _parameter(kinds[0], item, key, ctx, out)
+        if param is not None:
+            params.append(param)
+    return params
+
+
+def _parameter(kind, item, key, ctx, out) -> Parameter | None:
+    dim, links, nodes, fixed, ground = ctx["dim"], ctx["links"], ctx["nodes"], ctx["fixed"], ctx["ground"]
+    value = item[kind]
+    label = item.get("label")
+    if label is not None and not isinstance(label, str):
+        out.add(key, "label must be a string")
+        label = None
+    for extra, allowed in (("axis", ("rotation",)), ("component", ("velocity",))):
+        if extra in item and kind not in allowed:
+            out.add(key, f"'{extra}' goes with {' or '.join(allowed)} only")
+            return None
+    if kind == "joint":
+        if dim == 3:
+            out.add(key, "joint rates are planar; in a spatial model use rotation with an axis")
+            return None
+        if not (isinstance(value, (list, tuple)) and len(value) == 2 and all(isinstance(v, str) for v in value)):
+            out.add(key, f"joint needs two link names, got {value!r}")
+            return None
+        missing = [v for v in value if v not in links]
+        if missing:
+            out.add(key, f"unknown link(s) {', '.join(missing)}")
+            return None
+        if not set(links[value[0]]) & set(links[value[1]]):
+            out.add(key, f"links {value[0]} and {value[1]} share no node, so they form no joint")
+            return None
+        return Parameter("joint", (value[0], value[1]), label=label)
+    if not isinstance(value, str):
+        out.add(key, f"{kind} needs a name, got {value!r}")
+        return None
+    if kind in ("rotation", "twist"):
+        if value not in links:
+            out.add(key, f"unknown link {value!r}")
+            return None
+        if value in ground:
+            out.add(key, f"link {value} is ground (all its nodes are fixed): its {kind} is always zero")
+            return None
+        axis = None
+        if kind == "rotation":
+            axis = _rotation_axis(item, value, key, ctx, out)
+            if axis is False:
+                return None
+        return Parameter(kind, (value,), axis=axis, label=label)
+    if kind == "slide":
+        matches = [s for s in ctx["sliders"] if s.id == value] or [s for s in ctx["sliders"] if s.node == value]
+        if not matches:
+            out.add(key, f"unknown slider {value!r}")
+            return None
+        if len(matches) > 1:
+            out.add(key, f"node {value} has {len(matches)} sliders: name one by its id")
+            return None
+        if matches[0].kind == "plane":
+            out.add(key, f"slider {value} is on a plane: its rate has two components; "
+                         "use velocity components instead")
+            return None
+        return Parameter("slide", (matches[0].id,), label=label)
+    # velocity
+    if value not in nodes:
+        out.add(key, f"unknown node {value!r}")
+        return None
+    if value in fixed:
+        out.add(key, f"node {value} is fixed: its velocity is always zero")
+        return None
+    comp = item.get("component")
+    if comp is not None and (dim is None or comp not in AXES[:dim]):
+        out.add(key, f"component must be one of {', '.join(AXES[:dim or 3])}, got {comp!r}")
+        return None
+    return Parameter("velocity", (value,), component=comp, label=label)
+
+
+def _rotation_axis(item, link, key, ctx, out):
+    """The axis of a spatial rotation (tuple), None for planar, False after a problem."""
+    dim, nodes = ctx["dim"], ctx["nodes"]
+    axis = item.get("axis")
+    if dim == 2:
+        if axis is not None:
+            out.add(key, "a planar rotation has no axis")
+            return False
+        return None
+    if axis is None:
+        out.add(key, f"a spatial rotation needs an axis: axis = [\"N1\", \"N2\"] or [ax, ay, az]")
+        return False
+    if isinstance(axis, (list, tuple)) and len(axis) == 2 and all(isinstance(a, str) for a in axis):
+        missing = [a for a in axis if a not in nodes]
+        if missing:
+            out.add(key, f"unknown axis node(s) {', '.join(missing)}")
+            return False
+        pa, pb = nodes[axis[0]], nodes[axis[1]]
+        if pa is None or pb is None:
+            return False
+        vec = tuple(b - a for a, b in zip(pa, pb))
+        if math.sqrt(sum(v * v for v in vec)) == 0.0:
+            out.add(key, "the axis nodes coincide")
+            return False
+        result = (axis[0], axis[1])
+    else:
+        vec = _vector(axis, 3, key, out, "axis")
+        if vec is None:
+            return False
+        if math.sqrt(sum(v * v for v in vec)) == 0.0:
+            out.add(key, "zero axis")
+            return False
+        result = vec
+    return result

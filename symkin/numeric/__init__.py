@@ -1,0 +1,1 @@
+"""numeric stage of symkin."""

@@ -1,0 +1,312 @@
+"""Numeric geometric matrices (paper §II, Appendix eqs. A3-A6) and kinematic-parameter rows.
+
+Every constraint of the mechanism is one *dimensionless* row ``a`` over the nodal
+velocity components; its geometric matrix is ``a aᵀ`` and the mechanism's is their
+sum, ``G = Σ a aᵀ = Jᵀ J`` (eqs. 2-3).  The rows are:
+
+* a bar i-j (eq. A3 planar, A4 spatial): ``+u`` at node i, ``-u`` at node j, with ``u``
+  the unit vector along the bar, so ``a aᵀ`` is the paper's matrix entry by entry;
+* a rigid body of 3+ nodes: one bar row per pair of its nodes and, when its nodes do
+  not span the space (collinear nodes; coplanar nodes in 3D) and the pairwise bars
+  would leave it flexible, one row per missing normal ``n`` and extra node ``m``:
+  ``n·(ẋ_m − Σ c_k ẋ_k) = 0`` with ``c`` the affine coordinates of ``m`` on a frame
+  of the body's nodes (a rigid velocity field is affine, so this is exact);
+* a slider on a fixed line / plane: ``n·ẋ = 0`` for each normal ``n`` of the line
+  (one in 2D, two in 3D) or the plane's normal;
+* a slider on the moving line through nodes A, C: ``n·(ẋ_P − (1−t)ẋ_A − t ẋ_C) = 0``
+  with ``t`` the position of P on A→C.
+
+Fixed nodes are boundary conditions: the analysis works on the *free* coordinates
+(the reduced matrix); :func:`geometric_matrix` with ``boundary=True`` returns the
+paper's A6 form, with unit rows and columns for the fixed coordinates.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from symkin.model.mechanism import AXES, Mechanism, Parameter
+from symkin.numeric.linalg import affine_hull, normal_basis
+from symkin.tolerances import DEFAULT
+
+__all__ = ["ConstraintRows", "constraint_rows", "geometric_matrix", "coordinate_labels",
+           "free_mask", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
+
+
+def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
+    """Names of the nodal velocity components, in order: ``x_A, y_A, x_B, ...``."""
+    return tuple(f"{AXES[c]}_{n}" for n in mech.node_names for c in range(mech.dim))
+
+
+def free_mask(mech: Mechanism) -> np.ndarray:
+    """Boolean mask of the free (not fixed) coordinates."""
+    fixed = set(mech.fixed)
+    return np.array([n not in fixed for n in mech.node_names for _ in range(mech.dim)])
+
+
+@dataclass(frozen=True)
+class ConstraintRows:
+    """The constraint matrix ``J`` (rows × all coordinates) and what owns each row."""
+
+    matrix: np.ndarray
+    owners: tuple[str, ...]  # e.g. "link coupler (B-C)", "slider s1"
+
+
+def _xyz(mech: Mechanism) -> np.ndarray:
+    return np.array([xyz for _, xyz in mech.nodes], dtype=float)
+
+
+def _bar_row(x: np.ndarray, i: int, j: int, dim: int, ncoord: int) -> np.ndarray:
+    u = x[j] - x[i]
+    u = u / np.linalg.norm(u)
+    row = np.zeros(ncoord)
+    row[dim * i: dim * i + dim] = u
+    row[dim * j: dim * j + dim] = -u
+    return row
+
+
+def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
+    """Rows that make a degenerate (collinear / coplanar) body rigid out of its hull."""
+    pts = x[idx]
+    h, _, normals = affine_hull(pts, tol)
+    if h == dim or len(idx) <= h + 1:
+        return []
+    frame = _frame(pts, h)
+    base = pts[frame[0]]
+    edges = np.array([pts[k] - base for k in frame[1:]]).T  # (dim, h)
+    rows = []
+    for m in range(len(idx)):
+        if m in frame:
+            continue
+        coef, *_ = np.linalg.lstsq(edges, pts[m] - base, rcond=None)
+        weights = {frame[0]: 1.0 - coef.sum(), **{frame[k + 1]: coef[k] for k in range(h)}}
+        for n in normals:
+            row = np.zeros(ncoord)
+            row[dim * idx[m]: dim * idx[m] + dim] += n
+            for k, w in weights.items():
+                row[dim * idx[k]: dim * idx[k] + dim] -= w * n
+            rows.append(row)
+    return rows
+
+
+def _frame(pts: np.ndarray, h: int) -> list[int]:
+    """Indices of h+1 affinely independent points, chosen greedily for conditioning."""
+    frame = [0]
+    for _ in range(h):
+        base = pts[frame[0]]
+        span = np.array([pts[k] - base for k in frame[1:]]).reshape(-1, pts.shape[1])
+        best, best_d = None, -1.0
+        for k in range(len(pts)):
+            if k in frame:
+                continue
+            d = pts[k] - base
+            if span.size:
+                q, _ = np.linalg.qr(span.T)
+                d = d - q @ (q.T @ d)
+            dist = float(np.linalg.norm(d))
+            if dist > best_d:
+                best, best_d = k, dist
+        frame.append(best)
+    return frame
+
+
+def constraint_rows(mech: Mechanism, tolerances=DEFAULT) -> ConstraintRows:
+    """All constraint rows of ``mech`` (see module docstring), over all coordinates."""
+    return _constraint_rows_cached(mech, tolerances.geometry)
+
+
+@lru_cache(maxsize=256)
+def _constraint_rows_cached(mech: Mechanism, geometry_tol: float) -> ConstraintRows:
+    x = _xyz(mech)
+    dim, ncoord = mech.dim, x.size
+    index = mech.node_index()
+    rows, owners = [], []
+    for name, ns in mech.links:
+        idx = [index[n] for n in ns]
+        for a in range(len(idx)):
+            for b in range(a + 1, len(idx)):
+                rows.append(_bar_row(x, idx[a], idx[b], dim, ncoord))
+                owners.append(f"link {name} ({ns[a]}-{ns[b]})")
+        if len(idx) >= 3:
+            extra = _body_extra_rows(x, idx, dim, ncoord, geometry_tol)
+            rows += extra
+            owners += [f"link {name} (rigidity out of its hull)"] * len(extra)
+    for s in mech.sliders:
+        p = index[s.node]
+        if s.kind == "moving_line":
+            a, c = index[s.line[0]], index[s.line[1]]
+            e = x[c] - x[a]
+            le = np.linalg.norm(e)
+            u = e / le
+            t = float(np.dot(x[p] - x[a], u) / le)
+            weights = {p: 1.0, a: -(1.0 - t), c: -t}
+        else:
+            vec = np.array(s.direction if s.kind == "line" else s.normal, dtype=float)
+            u = vec / np.linalg.norm(vec)
+            weights = {p: 1.0}
+        normals = normal_basis(u) if s.kind != "plane" else u[None, :]
+        for n in normals:
+            row = np.zeros(ncoord)
+            for k, w in weights.items():
+                row[dim * k: dim * k + dim] += w * n
+            rows.append(row)
+            owners.append(f"slider {s.id}")
+    matrix = np.array(rows).reshape(len(rows), ncoord)
+    return ConstraintRows(matrix=matrix, owners=tuple(owners))
+
+
+def geometric_matrix(mech: Mechanism, boundary: bool = False, reduced: bool = False) -> np.ndarray:
+    """The geometric matrix ``G = Σ ḡ_e`` (eq. 3, the paper's A5 for the appendix four-bar).
+
+    Parameters
+    ----------
+    boundary : bool
+        Return the paper's A6 form: rows and columns of fixed coordinates replaced by
+        the identity (eq. 4 with boundary conditions).
+    reduced : bool
+        Return only the free coordinates' block, the matrix whose null space is the
+        motion space and whose eigenvalues the analysis uses.
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> G = geometric_matrix(get("fourbar_appendix"))
+    >>> G.shape, bool(abs(G - G.T).max() == 0)
+    ((8, 8), True)
+    """
+    j = constraint_rows(mech).matrix
+    g = j.T @ j
+    free = free_mask(mech)
+    if reduced:
+        return g[np.ix_(free, free)]
+    if boundary:
+        g = g.copy()
+        g[~free, :] = 0.0
+        g[:, ~free] = 0.0
+        g[~free, ~free] = 1.0
+    return g
+
+
+# ---------------------------------------------------------------------- parameter rows
+def _pair_for_rotation(x: np.ndarray, idx: list[int]) -> tuple[int, int]:
+    """First node of the link and the node farthest from it (best conditioned pair)."""
+    dists = [np.linalg.norm(x[k] - x[idx[0]]) for k in idx]
+    return idx[0], idx[int(np.argmax(dists))]
+
+
+def rotation_rows(mech: Mechanism, link: str) -> np.ndarray:
+    """Rows giving the angular velocity of ``link`` from nodal velocities.
+
+    Planar: one row, ``ω = n·(ẋ_j − ẋ_i)/|x_j − x_i|``.  Spatial: three rows (ωx, ωy,
+    ωz), the least-squares solution of ``ẋ_k − ẋ_i = ω × (x_k − x_i)`` over the link's
+    nodes; for a rod (collinear nodes) this is the angular velocity normal to its axis
+    (the spin about the axis does not move any node and is not defined).
+    """
+    x = _xyz(mech)
+    dim, ncoord = mech.dim, x.size
+    index = mech.node_index()
+    idx = [index[n] for n in mech.link_nodes(link)]
+    if dim == 2:
+        i, j = _pair_for_rotation(x, idx)
+        d = x[j] - x[i]
+        length2 = float(d @ d)
+        row = np.zeros(ncoord)
+        perp = np.array([-d[1], d[0]]) / length2
+        row[2 * j: 2 * j + 2] += perp
+        row[2 * i: 2 * i + 2] -= perp
+        return row[None, :]
+    # spatial: v_k - v_i = -[r_k]x ω  for every other node k  →  ω = B⁺ (v_k - v_i)
+    i = idx[0]
+    others = idx[1:]
+    blocks = []
+    for k in others:
+        r = x[k] - x[i]
+        blocks.append(-np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]]))
+    b = np.vstack(blocks)  # (3·len(others), 3)
+    h, _, _ = affine_hull(x[idx], DEFAULT.geometry)
+    bpinv = np.linalg.pinv(b, rcond=1e-10) if h >= 2 else _rod_pinv(x[idx[-1]] - x[i], len(others))
+    rows = np.zeros((3, ncoord))
+    for col, k in enumerate(others):
+        block = bpinv[:, 3 * col: 3 * col + 3]
+        rows[:, 3 * k: 3 * k + 3] += block
+        rows[:, 3 * i: 3 * i + 3] -= block
+    return rows
+
+
+def _rod_pinv(r: np.ndarray, n_others: int) -> np.ndarray:
+    """ω normal to a rod from the velocity of its far node only: ω = r × v / |r|²."""
+    cross = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]]) / float(r @ r)
+    out = np.zeros((3, 3 * n_others))
+    out[:, 3 * (n_others - 1):] = cross
+    return out
+
+
+def twist_rows(mech: Mechanism, link: str) -> np.ndarray:
+    """Velocity of the link's first node followed by its angular velocity (3 or 6 rows)."""
+    dim = mech.dim
+    ncoord = dim * len(mech.nodes)
+    i = mech.node_index()[mech.link_nodes(link)[0]]
+    vel = np.zeros((dim, ncoord))
+    vel[:, dim * i: dim * i + dim] = np.eye(dim)
+    return np.vstack([vel, rotation_rows(mech, link)])
+
+
+def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
+    if isinstance(axis[0], str):
+        xyz = mech.coordinates()
+        vec = np.subtract(xyz[axis[1]], xyz[axis[0]])
+    else:
+        vec = np.array(axis, dtype=float)
+    return vec / np.linalg.norm(vec)
+
+
+def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
+    """Rows (physical units) of one kinematic parameter over all nodal velocity components."""
+    dim = mech.dim
+    ncoord = dim * len(mech.nodes)
+    index = mech.node_index()
+    kind = param.kind
+    if kind == "rotation":
+        rows = rotation_rows(mech, param.target[0])
+        return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
+    if kind == "joint":
+        return rotation_rows(mech, param.target[1]) - rotation_rows(mech, param.target[0])
+    if kind == "twist":
+        return twist_rows(mech, param.target[0])
+    if kind == "velocity":
+        i = index[param.target[0]]
+        comps = [AXES.index(param.component)] if param.component else range(dim)
+        rows = np.zeros((len(comps), ncoord))
+        for r, c in enumerate(comps):
+            rows[r, dim * i + c] = 1.0
+        return rows
+    if kind == "slide":
+        s = mech.slider(param.target[0])
+        x = _xyz(mech)
+        p = index[s.node]
+        row = np.zeros(ncoord)
+        if s.kind == "moving_line":
+            a, c = index[s.line[0]], index[s.line[1]]
+            e = x[c] - x[a]
+            le = np.linalg.norm(e)
+            u = e / le
+            t = float(np.dot(x[p] - x[a], u) / le)
+            for k, w in ((p, 1.0), (a, -(1.0 - t)), (c, -t)):
+                row[dim * k: dim * k + dim] += w * u
+        else:
+            u = np.array(s.direction, dtype=float)
+            row[dim * p: dim * p + dim] = u / np.linalg.norm(u)
+        return row[None, :]
+    raise ValueError(f"unknown parameter kind {kind!r}")
+
+
+def parameters_matrix(mech: Mechanism, params) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Stacked rows and labels of a list of parameters."""
+    ncoord = mech.dim * len(mech.nodes)
+    blocks, labels = [np.zeros((0, ncoord))], []
+    for p in params:
+        blocks.append(parameter_rows(mech, p))
+        labels += list(p.labels(mech.dim))
+    return np.vstack(blocks), tuple(labels)

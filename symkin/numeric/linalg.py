@@ -1,0 +1,105 @@
+"""Rank-revealing linear algebra with explicit, relative tolerances.
+
+All functions are pure and work on NumPy arrays.  ``tol`` is always relative to a
+stated reference so that the caller controls scale invariance (see
+:mod:`symkin.tolerances`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["svd_null_space", "rank_and_null_space", "left_null_space", "rref", "normal_basis",
+           "affine_hull"]
+
+
+def svd_null_space(a: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """Singular values (padded with structural zeros, descending), null-space basis, rank.
+
+    ``a`` is (m, n).  Singular values ``<= threshold`` count as zero.  The returned
+    singular values have length ``n``: when ``m < n`` the ``n - m`` structural zeros
+    are appended, so that ``len(s) - rank`` is the nullity.
+    """
+    m, n = a.shape
+    if n == 0:
+        return np.zeros(0), np.zeros((0, 0)), 0
+    if m == 0:
+        return np.zeros(n), np.eye(n), 0
+    _, s, vt = np.linalg.svd(a, full_matrices=True)
+    s_full = np.zeros(n)
+    s_full[: s.size] = s
+    rank = int(np.count_nonzero(s > threshold))
+    return s_full, vt[rank:].T.copy(), rank
+
+
+def rank_and_null_space(a: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.ndarray]:
+    """Rank, right null space and singular values of ``a`` with an *absolute* threshold ``tol``."""
+    s, null, rank = svd_null_space(a, tol)
+    return rank, null, s
+
+
+def left_null_space(a: np.ndarray, tol: float) -> np.ndarray:
+    """Orthonormal basis (columns) of ``{y : yᵀ a = 0}`` with absolute threshold ``tol``."""
+    if a.shape[0] == 0:
+        return np.zeros((0, 0))
+    _, null, _ = svd_null_space(a.T, tol)
+    return null
+
+
+def rref(a: np.ndarray, tol: float) -> tuple[np.ndarray, list[int]]:
+    """Reduced row echelon form and pivot columns; entries ``<= tol·max|a|`` are zero.
+
+    Gauss-Jordan elimination with partial pivoting.  For a basis of a subspace the
+    result is canonical: it depends on the subspace only, not on the basis given.
+    """
+    r = np.array(a, dtype=float, copy=True)
+    if r.size == 0:
+        return r, []
+    eps = tol * max(float(np.max(np.abs(r))), np.finfo(float).tiny)
+    rows, cols = r.shape
+    pivots: list[int] = []
+    row = 0
+    for col in range(cols):
+        if row >= rows:
+            break
+        best = row + int(np.argmax(np.abs(r[row:, col])))
+        if abs(r[best, col]) <= eps:
+            r[row:, col] = 0.0
+            continue
+        r[[row, best]] = r[[best, row]]
+        r[row] /= r[row, col]
+        for other in range(rows):
+            if other != row:
+                r[other] -= r[other, col] * r[row]
+        pivots.append(col)
+        row += 1
+    r[np.abs(r) <= eps] = 0.0
+    return r[: len(pivots)], pivots
+
+
+def normal_basis(u: np.ndarray) -> np.ndarray:
+    """Orthonormal basis (rows) of the complement of unit vector ``u`` (2D: 1 row, 3D: 2 rows).
+
+    Deterministic: in 3D the first normal is built from the coordinate axis least
+    aligned with ``u``.  Quantities built as sums over this basis (projectors) do not
+    depend on the choice.
+    """
+    if u.size == 2:
+        return np.array([[-u[1], u[0]]])
+    axis = np.zeros(3)
+    axis[int(np.argmin(np.abs(u)))] = 1.0
+    n1 = axis - axis.dot(u) * u
+    n1 /= np.linalg.norm(n1)
+    return np.vstack([n1, np.cross(u, n1)])
+
+
+def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.ndarray]:
+    """Dimension ``h`` of the affine hull of ``points`` (k, d), its directions and normals.
+
+    Directions (h, d) and normals (d-h, d) are orthonormal rows; ``tol`` is relative to
+    the spread of the points.
+    """
+    centred = points - points.mean(axis=0)
+    _, s, vt = np.linalg.svd(centred, full_matrices=True)
+    scale = s[0] if s.size and s[0] > 0 else 1.0
+    h = int(np.count_nonzero(s > tol * scale))
+    return h, vt[:h], vt[h:]

@@ -1,0 +1,139 @@
+"""Checks of what the paper states, and the runner behind ``symkin reproduce``.
+
+Each example in ``papers_examples/`` is a model file plus a script ``check_<name>.py``
+that defines ``check() -> Checklist``.  A :class:`Checklist` records *claims*: a
+statement from the paper, the measured value, the expected value, and whether they
+agree.  A script run directly exits 1 when a claim fails; the test suite and
+``symkin reproduce`` run every script.
+"""
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = ["Claim", "Checklist", "find_examples_dir", "discover", "run_check", "run_all"]
+
+
+@dataclass(frozen=True)
+class Claim:
+    statement: str
+    holds: bool
+    measured: str
+    expected: str
+
+
+@dataclass
+class Checklist:
+    """Claims of one paper example.
+
+    >>> c = Checklist("demo")
+    >>> c.equal("DOF of a four-bar", 1, 1)
+    True
+    >>> c.ok
+    True
+    """
+
+    example: str
+    claims: list[Claim] = field(default_factory=list)
+    analyses: dict[str, Any] = field(default_factory=dict)
+
+    def _add(self, statement: str, holds: bool, measured: Any, expected: Any) -> bool:
+        self.claims.append(Claim(statement, bool(holds), _fmt(measured), _fmt(expected)))
+        return bool(holds)
+
+    def equal(self, statement: str, measured: Any, expected: Any) -> bool:
+        """Exact equality (ints, strings, sets, tuples)."""
+        return self._add(statement, measured == expected, measured, expected)
+
+    def close(self, statement: str, measured: float, expected: float, tol: float = 1e-9) -> bool:
+        """``|measured − expected| <= tol·max(1, |expected|)``."""
+        ok = math.isfinite(measured) and abs(measured - expected) <= tol * max(1.0, abs(expected))
+        return self._add(statement, ok, measured, expected)
+
+    def true(self, statement: str, value: bool, detail: Any = "") -> bool:
+        return self._add(statement, bool(value), detail if detail != "" else bool(value), True)
+
+    def record(self, label: str, analysis) -> None:
+        """Keep an analysis for the report folder (``symkin reproduce --out``)."""
+        self.analyses[label] = analysis
+
+    @property
+    def ok(self) -> bool:
+        return all(c.holds for c in self.claims) and bool(self.claims)
+
+    def summary(self) -> str:
+        lines = [f"{self.example}: {sum(c.holds for c in self.claims)}/{len(self.claims)} claims hold"]
+        for c in self.claims:
+            mark = "ok  " if c.holds else "FAIL"
+            detail = f" (measured {c.measured}, expected {c.expected})" if not c.holds else ""
+            lines.append(f"  {mark} {c.statement}{detail}")
+        return "\n".join(lines)
+
+    def main(self) -> int:
+        """Print the summary; exit code 0 when every claim holds (for ``__main__`` blocks)."""
+        print(self.summary())
+        return 0 if self.ok else 1
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, float):
+        return f"{value:.12g}"
+    return str(value)
+
+
+def find_examples_dir(explicit: str | Path | None = None) -> Path | None:
+    """``explicit``, else ``./papers_examples``, else the one beside the installed package."""
+    candidates = [Path(explicit)] if explicit else [Path.cwd() / "papers_examples",
+                                                    Path(__file__).resolve().parents[1] / "papers_examples"]
+    for c in candidates:
+        if c.is_dir() and any(c.glob("check_*.py")):
+            return c
+    return None
+
+
+def discover(examples_dir: Path) -> list[Path]:
+    """The check scripts of a folder, sorted by name."""
+    return sorted(Path(examples_dir).glob("check_*.py"))
+
+
+def run_check(script: Path) -> Checklist:
+    """Import ``script`` and return its ``check()`` result."""
+    script = Path(script)
+    spec = importlib.util.spec_from_file_location(f"symkin_example_{script.stem}", script)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    result = module.check()
+    if not isinstance(result, Checklist):
+        raise TypeError(f"{script}: check() must return a Checklist")
+    return result
+
+
+def run_all(examples_dir: Path, out: Path | None = None) -> list[Checklist]:
+    """Run every check; with ``out``, write ``summary.md``, ``summary.json`` and one JSON per analysis."""
+    from symkin.report import render_markdown
+
+    results = [run_check(s) for s in discover(examples_dir)]
+    if out is not None:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        summary = []
+        md = ["# symkin reproduce: the paper's examples", ""]
+        for res in results:
+            summary.append({"example": res.example, "ok": res.ok,
+                            "claims": [c.__dict__ for c in res.claims]})
+            md += [f"## {res.example}: {'all claims hold' if res.ok else 'SOME CLAIMS FAIL'}", ""]
+            md += [f"- {'✔' if c.holds else '✘'} {c.statement} — measured {c.measured}" for c in res.claims]
+            md.append("")
+            for label, analysis in res.analyses.items():
+                stem = f"{res.example}__{label}".replace(" ", "_").replace("/", "_")
+                (out / f"{stem}.json").write_text(json.dumps(analysis.to_dict(), indent=2) + "\n")
+                md += [f"### {label}", "", render_markdown(analysis), ""]
+        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        (out / "summary.md").write_text("\n".join(md) + "\n")
+    return results
