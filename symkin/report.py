@@ -1,0 +1,99 @@
+"""Text and Markdown renderings of an :class:`~symkin.analysis.classification.Analysis`.
+
+Only reads results; never computes.  JSON is ``Analysis.to_dict()``.
+"""
+from __future__ import annotations
+
+__all__ = ["render_text", "render_markdown"]
+
+_TYPE_WORDS = {
+    "IM": "increased mobility (IM)",
+    "DKP-input": "dependent kinematic parameters in the input (DKP-input)",
+    "DKP-output": "dependent kinematic parameters in the output (DKP-output)",
+    "LIM": "link impossible motion (LIM)",
+    "constraint": "a constraint singularity",
+}
+
+
+def _vec(v) -> str:
+    return "(" + ", ".join(f"{c:+.4g}" for c in v) + ")"
+
+
+def _sentences(a) -> list[str]:
+    out = []
+    f, L = a.mobility, a.dof
+    if a.types:
+        out.append("The configuration is singular: " + ", ".join(_TYPE_WORDS[t] for t in a.types) + ".")
+    else:
+        out.append("The configuration is not singular.")
+    if L > f:
+        out.append(f"The instantaneous DOF is L = {L}, above the full-cycle mobility F = {f}: "
+                   f"{L - f} extra instantaneous motion(s).")
+    else:
+        out.append(f"The instantaneous DOF is L = {L}, equal to the full-cycle mobility F = {f}."
+                   if L == f else f"The instantaneous DOF is L = {L}, below F = {f} "
+                   "(check 'mobility' in the model).")
+    if a.im_indicator is not None:
+        out.append(f"IM indicator (eigenvalue λ_{f + 1} of the reduced geometric matrix): {a.im_indicator:.6g}.")
+    if a.input_rank is not None:
+        n = len(a.input_labels)
+        if "DKP-input" in a.types:
+            out.append(f"The inputs {', '.join(a.input_labels)} are dependent: rank {a.input_rank} < {min(f, n)}.")
+        else:
+            out.append(f"The inputs are independent (rank {a.input_rank}).")
+        for r in a.input_relations:
+            out.append(f"  input relation (r = {r.r}): {r}")
+    if a.output_rank is not None:
+        n = len(a.output_labels)
+        if "DKP-output" in a.types:
+            out.append(f"The outputs {', '.join(a.output_labels)} are dependent: rank {a.output_rank} < {min(f, n)}.")
+        else:
+            out.append(f"The outputs are independent (rank {a.output_rank}).")
+        for r in a.output_relations:
+            out.append(f"  output relation (r = {r.r}): {r}")
+    if a.locked_links:
+        out.append(f"Locked links (no motion whatever the inputs): {', '.join(a.locked_links)}.")
+    if a.locked_nodes:
+        out.append(f"Motionless free nodes: {', '.join(a.locked_nodes)}.")
+    if a.platform is not None:
+        msg = f"The platform {a.platform} has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
+        msg += "; this exceeds the generic DOF: constraint singularity." if "constraint" in a.types else "."
+        out.append(msg)
+        for r in a.platform_relations:
+            out.append(f"  platform relation (r = {r.r}): {r}")
+    if a.uncontrolled_motions:
+        out.append(f"With every input locked, {len(a.uncontrolled_motions)} uncontrolled motion(s) remain "
+                   "(nodal velocities, scaled to a largest component of 1):")
+        for k, m in enumerate(a.uncontrolled_motions, 1):
+            moving = [f"{n} {_vec(v)}" for n, v in m.velocities if max(abs(c) for c in v) > a.tolerance]
+            flags = []
+            if m.moves_outputs is not None:
+                flags.append("moves the outputs" if m.moves_outputs else "does not move the outputs")
+            if m.moves_platform is not None:
+                flags.append("moves the platform" if m.moves_platform else "does not move the platform")
+            out.append(f"  motion {k}: " + ", ".join(moving) + (f" — {'; '.join(flags)}" if flags else ""))
+    if a.gosselin_angeles or a.zlatanov:
+        parts = []
+        if a.gosselin_angeles:
+            parts.append(f"Gosselin–Angeles {a.gosselin_angeles}")
+        if a.zlatanov:
+            parts.append("Zlatanov " + ", ".join(a.zlatanov))
+        out.append("In other classifications: " + "; ".join(parts) + ".")
+    sv = ", ".join(f"{s:.3g}" for s in a.singular_values)
+    margin = "∞" if a.margin is None or a.margin == float("inf") else f"{a.margin:.3g}"
+    out.append(f"Decision: singular values of the constraint matrix (smallest first) {sv}; "
+               f"zero below {a.threshold:.3g} (tolerance {a.tolerance:g} × largest); margin ×{margin}.")
+    return out
+
+
+def render_text(a) -> str:
+    """Plain-text report of an analysis, in sentences."""
+    head = f"{a.name} ({'planar' if a.dim == 2 else 'spatial'})"
+    return "\n".join([head, "=" * len(head)] + _sentences(a)) + "\n"
+
+
+def render_markdown(a) -> str:
+    """Markdown report (used by ``symkin reproduce``)."""
+    lines = [f"**{a.name}** — types: {', '.join(a.types) or 'none'}; L = {a.dof}, F = {a.mobility}", ""]
+    lines += [f"- {s.strip()}" for s in _sentences(a)]
+    return "\n".join(lines)
