@@ -8,18 +8,20 @@ configurations in closed kinematic chains", IEEE T-RO 20(6), 2004.
 >>> result.dof, result.types
 (2, ('IM',))
 """
-from symkin import catalogue
+from symkin import catalogue, report
 from symkin.analysis.classification import Analysis, Motion, Relation, analyze
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import ModelError, ModelFileError, NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism, Parameter, Slider
 from symkin.model.model_file import read_model, write_model
 from symkin.numeric.geometric_matrix import geometric_matrix
+from symkin.report import render_text
 from symkin.tolerances import Tolerances
 
 __version__ = "0.1.0"
 
 __all__ = ["Analysis", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "catalogue", "geometric_matrix", "motion_space", "read_model", "write_model",
+           "analyze", "catalogue", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "write_model",
            "__version__"]

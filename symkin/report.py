@@ -56,7 +56,7 @@ def _sentences(a) -> list[str]:
     if a.locked_nodes:
         out.append(f"Motionless free nodes: {', '.join(a.locked_nodes)}.")
     if a.platform is not None:
-        msg = f"The platform {a.platform} has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
+        msg = f"The platform (link {a.platform}) has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
         msg += "; this exceeds the generic DOF: constraint singularity." if "constraint" in a.types else "."
         out.append(msg)
         for r in a.platform_relations:

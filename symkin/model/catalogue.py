@@ -26,7 +26,7 @@ def _entry(fn: Callable[[], dict]) -> Callable[[], dict]:
 def fourbar_appendix() -> dict:
     """The four-bar of the paper's appendix (Fig. 17) in a generic configuration."""
     return {
-        "name": "four-bar of the paper's appendix", "dim": 2, "fixed": ["A", "D"],
+        "name": "four-bar of the paper's appendix", "dim": 2, "fixed": ["A", "D"], "mobility": 1,
         "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
         "nodes": {"A": [0.0, 0.0], "B": [0.2, 0.9], "C": [2.1, 1.3], "D": [2.0, 0.0]},
         "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},

@@ -184,6 +184,38 @@ class Mechanism:
             new = tuple((n, row) for (n, _), row in zip(self.nodes, rows))
         return replace(self, nodes=new)
 
+    def moved(self, rotation=None, translation=None, scale: float = 1.0) -> "Mechanism":
+        """The same mechanism after ``x ↦ scale · R x + t`` (a similarity).
+
+        ``rotation`` is a (dim, dim) orthogonal matrix (nested lists or an array);
+        slider points, directions and normals and vector rotation axes move with the
+        nodes.  Units change by a scale alone: ``m.moved(scale=1000)`` is ``m`` in mm.
+        """
+        dim = self.dim
+        rot = [[float(rotation[i][j]) for j in range(dim)] for i in range(dim)] if rotation is not None \
+            else [[1.0 if i == j else 0.0 for j in range(dim)] for i in range(dim)]
+        shift = [float(v) for v in translation] if translation is not None else [0.0] * dim
+
+        def turn(v):
+            return tuple(sum(rot[i][j] * v[j] for j in range(dim)) for i in range(dim))
+
+        def place(v):
+            return tuple(scale * c + t for c, t in zip(turn(v), shift))
+
+        sliders = tuple(replace(s, point=place(s.point) if s.point is not None else None,
+                                direction=turn(s.direction) if s.direction is not None else None,
+                                normal=turn(s.normal) if s.normal is not None else None)
+                        for s in self.sliders)
+
+        def param(p: Parameter) -> Parameter:
+            if p.axis is not None and not isinstance(p.axis[0], str):
+                return replace(p, axis=turn(p.axis))
+            return p
+
+        return replace(self, nodes=tuple((n, place(x)) for n, x in self.nodes), sliders=sliders,
+                       inputs=tuple(param(p) for p in self.inputs),
+                       outputs=tuple(param(p) for p in self.outputs))
+
     # ------------------------------------------------------------------ queries
     @property
     def node_names(self) -> tuple[str, ...]:

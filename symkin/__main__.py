@@ -1,0 +1,4 @@
+"""``python -m symkin`` runs the command line."""
+from symkin.cli import main
+
+raise SystemExit(main())

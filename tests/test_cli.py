@@ -1,0 +1,82 @@
+"""The command line: reports, JSON contract, and user errors as `file: message` with exit code 2."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from symkin.cli import main
+from tests.conftest import EXAMPLES, ROOT
+
+JSON_KEYS = {"dof", "mobility", "singular", "types", "input_rank", "output_rank", "platform_dof",
+             "locked_links", "input_relations", "output_relations", "uncontrolled_motions",
+             "im_indicator", "singular_values", "tolerance"}
+
+
+def run(capsys, *args):
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_analyze_text_report(capsys):
+    code, out, err = run(capsys, "analyze", str(EXAMPLES / "fourbar_appendix.toml"))
+    assert code == 0 and err == ""
+    assert "The configuration is not singular." in out
+    assert "L = 1, equal to the full-cycle mobility F = 1" in out
+
+
+def test_analyze_json_contract(capsys, tmp_path):
+    from symkin import write_model
+    from symkin.model import catalogue
+
+    path = write_model(catalogue.get("fourbar_dead_centre"), tmp_path / "dc.json")
+    code, out, _ = run(capsys, "analyze", str(path), "--json", "--tol", "1e-7")
+    data = json.loads(out)
+    assert code == 0 and JSON_KEYS <= set(data)
+    assert data["types"] == ["DKP-output", "LIM"] and data["singular"] is True
+    assert data["output_relations"] == [{"rotation:rocker": 1.0}] and data["tolerance"] == 1e-7
+    assert data["platform_dof"] is None and data["locked_links"] == ["rocker"]
+
+
+@pytest.mark.parametrize("content, suffix, expected", [
+    ('name = "x"\ndim = 2\nnodes = {A = [0, 0]\n', ".toml", "malformed TOML"),
+    ('{"dim": 5, "nodes": {"A": [0, 0]}, "links": {"l": ["A", "B"]}}', ".json", "dim: must be 2"),
+    ('{"dim": 2, "nodes": {"A": [0, 0]}, "links": {"l": ["A", "B"]}}', ".json", "links.l: unknown node 'B'"),
+])
+def test_user_errors_exit_2_with_file_and_message(capsys, tmp_path, content, suffix, expected):
+    p = tmp_path / f"bad{suffix}"
+    p.write_text(content)
+    code, out, err = run(capsys, "analyze", str(p))
+    assert code == 2 and out == ""
+    assert err.startswith(f"{p}: ") and expected in err and "Traceback" not in err
+
+
+def test_missing_file_and_bad_option(capsys, tmp_path):
+    code, _, err = run(capsys, "analyze", str(tmp_path / "none.toml"))
+    assert code == 2 and "no such file" in err
+    with pytest.raises(SystemExit) as info:
+        main(["analyze", str(EXAMPLES / "fourbar_appendix.toml"), "--tol", "2"])
+    assert info.value.code == 2
+    assert "must be between 0 and 1" in capsys.readouterr().err
+
+
+def test_console_script_runs_as_module():
+    proc = subprocess.run([sys.executable, "-m", "symkin", "analyze", str(EXAMPLES / "fourbar_appendix.toml"),
+                           "--json"], capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0 and json.loads(proc.stdout)["dof"] == 1
+
+
+def test_reproduce_writes_a_report_folder(capsys, tmp_path):
+    code, out, err = run(capsys, "reproduce", "--out", str(tmp_path / "rep"))
+    assert code == 0, out + err
+    assert "examples reproduced" in out and (tmp_path / "rep" / "summary.md").exists()
+    summary = json.loads((tmp_path / "rep" / "summary.json").read_text())
+    assert summary and all(item["ok"] for item in summary)
+
+
+def test_reproduce_without_examples_is_a_user_error(capsys, tmp_path):
+    code, _, err = run(capsys, "reproduce", "--examples", str(tmp_path))
+    assert code == 2 and "no papers_examples folder" in err
