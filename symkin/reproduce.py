@@ -114,11 +114,21 @@ def run_check(script: Path) -> Checklist:
     return result
 
 
+def _run_guarded(script: Path) -> Checklist:
+    """Run one check; a script that raises becomes a failed claim instead of stopping the run."""
+    try:
+        return run_check(script)
+    except Exception as exc:  # noqa: BLE001 - any failure of an example is reported, not raised
+        failed = Checklist(Path(script).stem.removeprefix("check_"))
+        failed.true(f"{Path(script).name} runs to the end", False, f"{type(exc).__name__}: {exc}")
+        return failed
+
+
 def run_all(examples_dir: Path, out: Path | None = None) -> list[Checklist]:
     """Run every check; with ``out``, write ``summary.md``, ``summary.json`` and one JSON per analysis."""
     from symkin.report import render_markdown
 
-    results = [run_check(s) for s in discover(examples_dir)]
+    results = [_run_guarded(s) for s in discover(examples_dir)]
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)

@@ -1,1 +1,1 @@
-"""paths stage of symkin."""
+"""Finite displacement: position solver, continuation, event location, branch switching (paper §IV-A, §V)."""

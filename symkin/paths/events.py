@@ -1,0 +1,105 @@
+"""Event location along a continued curve: sign changes and near-zero minima of test functions.
+
+A test function is ``f(y, t) -> float`` (``t`` the oriented unit tangent).  Between two
+accepted points a sign change of a *signed* test function brackets a root, which is
+refined by Brent's method on the curve parametrised by the projection ``σ`` on the
+first point's tangent (each trial point is a Newton projection onto the curve, see
+:func:`symkin.paths.continuation.point_at`).  A *non-negative* test function (a singular
+value, which touches zero without changing sign) is watched for a local minimum below a
+threshold, refined by bounded Brent minimisation.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from symkin.paths.continuation import CurvePoint, CurveProblem, point_at, tangent
+
+__all__ = ["TestFunction", "CurveEvent", "locate_sign_change", "locate_minimum"]
+
+
+@dataclass(frozen=True)
+class TestFunction:
+    """A named test function; ``signed`` ones are located by sign change, others by minimum."""
+
+    __test__ = False  # not a pytest test class
+
+    name: str
+    f: Callable[[np.ndarray, np.ndarray], float]
+    signed: bool = True
+    threshold: float = 1e-6  # for non-negative functions: a minimum below this is an event
+
+
+@dataclass(frozen=True)
+class CurveEvent:
+    """A located event: which test function, where (``y``, ``t``, arclength ``s``), its value."""
+
+    name: str
+    kind: str  # "sign change" or "minimum"
+    y: np.ndarray = field(repr=False)
+    t: np.ndarray = field(repr=False)
+    s: float
+    value: float
+    evaluations: int
+
+
+class _Counter:
+    def __init__(self, fn):
+        self.fn, self.n = fn, 0
+
+    def __call__(self, x):
+        self.n += 1
+        return self.fn(x)
+
+
+def locate_sign_change(problem: CurveProblem, test: TestFunction, a: CurvePoint, b: CurvePoint,
+                       xtol: float = 1e-14) -> CurveEvent:
+    """Refine the root of ``test`` between accepted points ``a`` and ``b``."""
+    sigma_b = float(a.t @ (b.y - a.y))
+
+    def at(sigma):
+        if sigma == 0.0:
+            return a.y, a.t
+        y = point_at(problem, a, sigma)
+        return y, tangent(problem, y, a.t)
+
+    f = _Counter(lambda sg: test.f(*at(sg)))
+    fa, fb = test.f(a.y, a.t), test.f(b.y, b.t)
+    if fa == 0.0:
+        root = 0.0
+    elif fb == 0.0:
+        root = sigma_b
+    else:
+        root = brentq(f, 0.0, sigma_b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=200)
+    y, t = at(root)
+    return CurveEvent(test.name, "sign change", y, t, a.s + _chord(a, y), test.f(y, t), f.n + 2)
+
+
+def locate_minimum(problem: CurveProblem, test: TestFunction, a: CurvePoint, b: CurvePoint,
+                   c: CurvePoint, xtol: float = 1e-13) -> CurveEvent | None:
+    """Refine a local minimum of ``test`` bracketed by ``a``, ``b``, ``c`` (``b`` the lowest).
+
+    Returns ``None`` when the refined minimum is above ``test.threshold``.
+    """
+    lo, hi = float(b.t @ (a.y - b.y)), float(b.t @ (c.y - b.y))
+
+    def at(sigma):
+        y = point_at(problem, b, sigma) if sigma != 0.0 else b.y
+        return y, tangent(problem, y, b.t)
+
+    f = _Counter(lambda sg: test.f(*at(sg)))
+    res = minimize_scalar(f, bounds=(min(lo, hi), max(lo, hi)), method="bounded",
+                          options={"xatol": xtol, "maxiter": 200})
+    y, t = at(float(res.x))
+    value = test.f(y, t)
+    if not value <= test.threshold:
+        return None
+    return CurveEvent(test.name, "minimum", y, t, b.s + math.copysign(_chord(b, y), float(res.x)), value, f.n + 1)
+
+
+def _chord(p: CurvePoint, y: np.ndarray) -> float:
+    return float(np.linalg.norm(y - p.y))
