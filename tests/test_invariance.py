@@ -34,10 +34,14 @@ def rotation_matrix(dim: int, angles) -> np.ndarray:
     return rz @ ry @ rx
 
 
-def signature(result):
+def signature(result, frame_free: bool = False):
+    """What must not change.  The r of a relation among Cartesian components (velocity:P.x,
+    twist:L.vx) depends on the frame, so under rotations only the number of relations is compared."""
+    def rel(rs):
+        return tuple(r.r for r in rs) if frame_free else len(rs)
     return (result.dof, result.types, result.input_rank, result.output_rank, result.platform_dof,
-            result.locked_links, tuple(r.r for r in result.input_relations),
-            tuple(r.r for r in result.output_relations), len(result.uncontrolled_motions))
+            result.locked_links, rel(result.input_relations), rel(result.output_relations),
+            len(result.uncontrolled_motions))
 
 
 @pytest.mark.parametrize("source, name", MODELS)
@@ -57,5 +61,5 @@ def test_similarity_leaves_the_analysis_unchanged(source, name, angles, shift, l
 def test_millimetres_and_metres_agree(source, name):
     mech = load(source, name)
     a, b = analyze(mech), analyze(mech.moved(scale=1000.0))
-    assert signature(a) == signature(b)
+    assert signature(a, frame_free=True) == signature(b, frame_free=True)
     assert a.im_indicator == pytest.approx(b.im_indicator, rel=1e-9, abs=1e-12)
