@@ -93,3 +93,11 @@ def test_slider_reference_by_node_or_id():
 def test_length_scale_is_homogeneous(fourbar):
     scaled = fourbar.with_coordinates({n: tuple(1000 * v for v in xyz) for n, xyz in fourbar.nodes})
     assert math.isclose(scaled.length_scale, 1000 * fourbar.length_scale, rel_tol=1e-12)
+
+
+def test_rotation_of_a_rod_about_its_own_axis_is_rejected():
+    d = catalogue.data("rssr")
+    d["outputs"] = [{"rotation": "coupler", "axis": ["B", "C"]}]
+    assert any("spin of a rod about its own axis" in p for p in problems_of(d))
+    d["outputs"] = [{"rotation": "coupler", "axis": [0.0, 0.0, 1.0]}]  # across the rod: fine
+    assert Mechanism.from_dict(d).outputs[0].axis == (0.0, 0.0, 1.0)

@@ -446,4 +446,41 @@ def _rotation_axis(item, link, key, ctx, out):
             out.add(key, "zero axis")
             return False
         result = vec
+    if _is_rod(link, ctx) and _parallel(vec, _rod_direction(link, ctx)):
+        out.add(key, f"link {link} is a rod (its nodes are collinear) and the axis is along it: "
+                     "the spin of a rod about its own axis moves no node and is not defined")
+        return False
     return result
+
+
+def _link_points(link, ctx):
+    return [ctx["nodes"][n] for n in ctx["links"][link] if ctx["nodes"].get(n) is not None]
+
+
+def _rod_direction(link, ctx):
+    pts = _link_points(link, ctx)
+    far = max(pts, key=lambda p: math.dist(p, pts[0]))
+    return tuple(b - a for a, b in zip(pts[0], far))
+
+
+def _is_rod(link, ctx) -> bool:
+    """All nodes of the (spatial) link on one line."""
+    pts = _link_points(link, ctx)
+    if len(pts) < 2:
+        return False
+    d = _rod_direction(link, ctx)
+    length = math.sqrt(sum(v * v for v in d))
+    if length == 0.0:
+        return False
+    for p in pts:
+        w = [b - a for a, b in zip(pts[0], p)]
+        along = sum(x * y for x, y in zip(w, d)) / length
+        if sum(x * x for x in w) - along * along > (1e-9 * length) ** 2:
+            return False
+    return True
+
+
+def _parallel(a, b) -> bool:
+    cross = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    na, nb = math.sqrt(sum(v * v for v in a)), math.sqrt(sum(v * v for v in b))
+    return math.sqrt(sum(v * v for v in cross)) <= 1e-9 * na * nb
