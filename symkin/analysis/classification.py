@@ -280,7 +280,7 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     margin = None
     if ms.threshold > 0:
         above = s[L] / ms.threshold if L < s.size else math.inf
-        below = ms.threshold / s[L - 1] if L > 0 and s[L - 1] > 0 else math.inf
+        below = ms.threshold / s[L - 1] if L > 0 and s[L - 1] > ms.threshold * 1e-300 else math.inf
         margin = float(min(above, below))
 
     return Analysis(
