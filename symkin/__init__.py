@@ -16,12 +16,21 @@ from symkin.model.mechanism import Mechanism, Parameter, Slider
 from symkin.model.model_file import read_model, write_model
 from symkin.numeric.geometric_matrix import geometric_matrix
 from symkin.report import render_text
+
+
+def trace(mechanism, *args, **kwargs):
+    """Trace a path and locate its singular configurations: see :func:`symkin.paths.trace.trace`."""
+    from symkin.paths.trace import trace as _trace
+
+    return _trace(mechanism, *args, **kwargs)
+
+
 from symkin.tolerances import Tolerances
 
 __version__ = "0.1.0"
 
 __all__ = ["Analysis", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "catalogue", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "analyze", "trace", "catalogue", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
            "write_model",
            "__version__"]

@@ -80,3 +80,34 @@ def test_reproduce_writes_a_report_folder(capsys, tmp_path):
 def test_reproduce_without_examples_is_a_user_error(capsys, tmp_path):
     code, _, err = run(capsys, "reproduce", "--examples", str(tmp_path))
     assert code == 2 and "no papers_examples folder" in err
+
+
+def test_path_text_json_and_csv(capsys, tmp_path):
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    code, out, err = run(capsys, "path", model, "--to", "360", "--no-progress")
+    assert code == 0 and "DKP-output at rotation:crank = 137.56215" in out
+    code, out, _ = run(capsys, "path", model, "--input", "rotation:crank", "--from", "0", "--to", "360",
+                       "--unit", "deg", "--json")
+    data = json.loads(out)
+    assert code == 0 and {"points", "events"} <= set(data)
+    events = [e for e in data["events"] if e["kind"] != "end"]
+    assert [e["types"] for e in events] == [["DKP-output", "LIM"], ["DKP-output", "LIM"]]
+    for e in events:
+        assert {"input", "absolute", "kind", "types", "locked_links", "dof", "configuration"} <= set(e)
+        assert e["locked_links"] == ["rocker"] and e["dof"] == 1
+    assert data["points"][0]["input"] == 0.0 and data["points"][-1]["input"] == pytest.approx(360.0)
+    target = tmp_path / "p.csv"
+    code, _, err = run(capsys, "path", model, "--to", "90", "--steps", "30", "--csv", str(target))
+    rows = target.read_text().splitlines()
+    assert code == 0 and rows[0].startswith("input,absolute,s,") and len(rows) >= 31
+
+
+@pytest.mark.parametrize("args, expected", [
+    (["--to", "10", "--input", "rotation:nope"], "unknown input 'rotation:nope'"),
+    (["--to", "0"], "--from and --to are equal"),
+    (["--to", "10", "--steps", "0"], "--steps must be a positive integer"),
+])
+def test_path_user_errors(capsys, args, expected):
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    code, out, err = run(capsys, "path", model, *args)
+    assert code == 2 and err.startswith(f"{model}: ") and expected in err and "Traceback" not in err

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 __all__ = ["COMMANDS", "Output"]
 
-COMMANDS = ["analyze", "reproduce"]
+COMMANDS = ["analyze", "reproduce", "path"]
 
 
 @dataclass(frozen=True)

@@ -68,46 +68,55 @@ def _lstsq(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def newton(problem: CurveProblem, y0: np.ndarray, extra=None, tol: float = 1e-12,
-           max_iterations: int = 20) -> tuple[np.ndarray, int, float]:
+           max_iterations: int = 20, floor: float | None = None) -> tuple[np.ndarray, int, float]:
     """Gauss–Newton on ``H(y) = 0`` (plus optional extra equations ``extra(y) -> (r, J)``).
 
-    Least-squares steps make redundant equations harmless.  Returns ``(y, iterations,
-    residual norm)``; raises :class:`NotConvergedError` (with ``y`` and the residual reached)
+    Least-squares steps make redundant equations harmless.  A residual at or below ``floor``
+    (default ``10·tol``) that a step can no longer reduce is accepted (a near-singular
+    Jacobian at the rounding level).  Returns ``(y, iterations, residual norm)``; raises :class:`NotConvergedError` (with ``y`` and the residual reached)
     when it does not converge.
     """
     y = np.array(y0, dtype=float)
     res, step = math.inf, math.inf
+    both = getattr(problem, "residual_and_jacobian", None)
 
     def full(yy):
-        r, j = problem.residual(yy), None
+        """Residual and Jacobian (one call when the problem offers it), extra equations appended."""
+        if both is not None:
+            r, j = both(yy)
+        else:
+            r, j = problem.residual(yy), problem.jacobian(yy)
         if extra is not None:
             re, je = extra(yy)
-            r = np.concatenate([r, re])
-            return r, je
+            r, j = np.concatenate([r, re]), np.vstack([j, je])
         return r, j
 
     k = 0
+    r, j = full(y)
+    res = float(np.linalg.norm(r))
+    best = res
     for k in range(1, max_iterations + 1):
-        r, je = full(y)
-        res = float(np.linalg.norm(r))
         # converged: residual at the tolerance and the last step small (quadratic convergence), or
         # a residual at rounding level (near singular points Newton converges only linearly)
         if (res <= tol and step <= math.sqrt(tol)) or res <= 1e-3 * tol:
             return y, k - 1, res
-        j = problem.jacobian(y)
-        if je is not None:
-            j = np.vstack([j, je])
         dy = _lstsq(j, -r)
-        step = float(np.linalg.norm(dy))
-        y = y + dy
-        if not np.all(np.isfinite(y)) or res > 1e6:
+        y_new = y + dy
+        if not np.all(np.isfinite(y_new)):
             break
-    r, _ = full(y)
-    res = float(np.linalg.norm(r))
+        r_new, j_new = full(y_new)
+        res_new = float(np.linalg.norm(r_new))
+        if res <= (10 * tol if floor is None else floor) and res_new >= res:
+            # at the rounding floor already and a (near-)singular Jacobian cannot improve it: done
+            return y, k - 1, res
+        y, r, j, res, step = y_new, r_new, j_new, res_new, float(np.linalg.norm(dy))
+        best = min(best, res)
+        if res > 1e6:
+            break
     if res <= tol and step <= math.sqrt(tol):
         return y, k, res
-    raise NotConvergedError(f"Newton did not converge (residual {res:.3g} after {k} iterations)",
-                            y=y, residual=res, iterations=k)
+    raise NotConvergedError(f"Newton did not converge (residual {res:.3g} after {k} iterations; "
+                            f"smallest {best:.3g})", y=y, residual=res, best_residual=best, iterations=k)
 
 
 def tangent(problem: CurveProblem, y: np.ndarray, previous: np.ndarray | None = None) -> np.ndarray:
@@ -130,23 +139,30 @@ def tangent(problem: CurveProblem, y: np.ndarray, previous: np.ndarray | None = 
     return t
 
 
-def point_at(problem: CurveProblem, base: CurvePoint, sigma: float, tol: float = 1e-13) -> np.ndarray:
-    """The curve point whose projection on ``base``'s tangent is ``sigma`` (for event location)."""
+def point_at(problem: CurveProblem, base: CurvePoint, sigma: float, tol: float = 1e-12) -> np.ndarray:
+    """The curve point whose projection on ``base``'s tangent is ``sigma`` (for event location).
+
+    Next to a branch point Newton converges only linearly; up to 50 iterations are allowed
+    and a residual that stops improving below ``1e3·tol`` is accepted there.
+    """
     def hyperplane(y):
         return np.array([base.t @ (y - base.y) - sigma]), base.t[None, :]
 
-    y, _, _ = newton(problem, base.y + sigma * base.t, extra=hyperplane, tol=tol)
+    y, _, _ = newton(problem, base.y + sigma * base.t, extra=hyperplane, tol=tol, max_iterations=50,
+                     floor=1e3 * tol)
     return y
 
 
 def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
                    settings: Settings = Settings(),
-                   stop: Callable[[CurvePoint], bool] | None = None) -> Iterator[CurvePoint]:
+                   stop: Callable[[CurvePoint], bool] | None = None,
+                   guard: Callable[[CurvePoint, np.ndarray], bool] | None = None) -> Iterator[CurvePoint]:
     """Yield points along the curve from ``y0`` in the direction of ``t0``.
 
     ``y0`` must be on the curve (see :func:`newton`).  Iteration ends when ``stop(point)``
     is true, after ``settings.max_steps``, or by the caller; raises :class:`SteppingError`
-    when the step falls below ``settings.min_step``.
+    when the step falls below ``settings.min_step``.  ``guard(previous, y)`` may reject a
+    corrected point (the step is then halved), e.g. to bound the input change per step.
     """
     t = tangent(problem, y0, t0)
     point = CurvePoint(np.array(y0, float), t, 0.0)
@@ -170,6 +186,9 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
                 h *= 0.5
                 continue
             if np.linalg.norm(y - predictor) > settings.max_corrector_distance * h:
+                h *= 0.5
+                continue
+            if guard is not None and not guard(point, y):
                 h *= 0.5
                 continue
             t_new = tangent(problem, y, point.t)

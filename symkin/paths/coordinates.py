@@ -2,10 +2,10 @@
 
 A path is driven by *input values* measured from the model's configuration (0 = as in the
 file): the angle a link has turned (planar; spatial about a fixed axis), a slider's
-displacement along its line, a node's coordinate, or a planar joint angle.  Each
-coordinate's gradient with respect to the free nodal coordinates is the parameter row of
-:func:`symkin.numeric.geometric_matrix.parameter_rows` on the constraint manifold, which a
-test checks.
+displacement along its line, a node's coordinate, or a planar joint angle.  Each is a
+CasADi expression of the nodal coordinates; its gradient (by automatic differentiation)
+is the parameter row of :func:`symkin.numeric.geometric_matrix.parameter_rows` on the
+constraint manifold, which a test checks.
 """
 from __future__ import annotations
 
@@ -16,16 +16,19 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.geometric_matrix import free_mask
 
-__all__ = ["InputCoordinate", "input_coordinates", "parse_input_label"]
+__all__ = ["InputCoordinate", "LinearInput", "input_coordinates", "parse_input_label", "segment_inputs"]
 
 
 @dataclass(frozen=True)
 class InputCoordinate:
-    """One scalar input coordinate ``value(x)`` (all coordinates ``x``, shape (n, dim)) and its gradient.
+    """One scalar input coordinate: a finite quantity whose rate is a kinematic parameter.
 
-    ``kind`` is ``"angle"`` (radians) or ``"length"`` (model units); ``label`` as in reports.
+    ``kind`` is ``"angle"`` (radians) or ``"length"`` (model units); ``label`` as in reports;
+    ``component`` picks the axis of a whole-node velocity parameter.  :meth:`expression`
+    builds its value as a CasADi expression of all nodal coordinates, measured from the
+    model's configuration (angles relative to it, in (−π, π]); gradients come from it by
+    automatic differentiation.
     """
 
     label: str
@@ -33,22 +36,18 @@ class InputCoordinate:
     parameter: Parameter
     component: int = 0
 
-    def value(self, mech: Mechanism, x: np.ndarray, x0: np.ndarray) -> float:
-        """Value at ``x`` measured from the configuration ``x0`` (angles wrapped to (−π, π])."""
-        return _value(self, mech, x, x0)
+    def expression(self, mech: Mechanism, x, x0: np.ndarray):
+        """CasADi expression of the value; ``x`` is an (n·dim) SX/MX column of all coordinates."""
+        return _expression(self, mech, x, x0)
 
     def absolute(self, mech: Mechanism, x: np.ndarray) -> float | None:
-        """Absolute value (planar rotation: direction of first node → reference node from +x)."""
+        """Absolute value: for a planar rotation, the direction of the link's first node → second node from +x."""
         if self.parameter.kind == "rotation" and mech.dim == 2:
-            i, j = _pair(mech, self.parameter.target[0])
-            d = x[j] - x[i]
+            idx = mech.node_index()
+            ns = mech.link_nodes(self.parameter.target[0])
+            d = x[idx[ns[1]]] - x[idx[ns[0]]]
             return math.atan2(d[1], d[0])
         return None
-
-    def gradient(self, mech: Mechanism, x: np.ndarray) -> np.ndarray:
-        """Gradient with respect to the free coordinates (flattened in node order)."""
-        g = _gradient(self, mech, x)
-        return g.ravel()[free_mask(mech)]
 
 
 def _pair(mech: Mechanism, link: str) -> tuple[int, int]:
@@ -59,15 +58,6 @@ def _pair(mech: Mechanism, link: str) -> tuple[int, int]:
     first = idx[ns[0]]
     far = max((idx[n] for n in ns), key=lambda k: float(np.linalg.norm(xyz[k] - xyz[first])))
     return first, far
-
-
-def _planar_angle(x, i, j) -> float:
-    d = x[j] - x[i]
-    return math.atan2(d[1], d[0])
-
-
-def _wrap(a: float) -> float:
-    return math.atan2(math.sin(a), math.cos(a))
 
 
 def _axis_angle_setup(mech: Mechanism, p: Parameter):
@@ -97,83 +87,49 @@ def _axis_angle_setup(mech: Mechanism, p: Parameter):
     return a, origin, moving[int(np.argmax(radial))]
 
 
-def _value(c: InputCoordinate, mech, x, x0) -> float:
+def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
+    import casadi as ca
+
+    dim = mech.dim
     p = c.parameter
-    if p.kind == "rotation" and mech.dim == 2:
-        i, j = _pair(mech, p.target[0])
-        return _wrap(_planar_angle(x, i, j) - _planar_angle(x0, i, j))
+
+    def node(k):
+        return x[dim * k: dim * k + dim]
+
+    def planar_turn(link):
+        i, j = _pair(mech, link)
+        d, d0 = node(j) - node(i), x0[j] - x0[i]
+        return ca.atan2(d0[0] * d[1] - d0[1] * d[0], d0[0] * d[0] + d0[1] * d[1])
+
+    if p.kind == "rotation" and dim == 2:
+        return planar_turn(p.target[0])
     if p.kind == "joint":
-        (i1, j1), (i2, j2) = _pair(mech, p.target[0]), _pair(mech, p.target[1])
-        turn = (_planar_angle(x, i2, j2) - _planar_angle(x0, i2, j2)) - (_planar_angle(x, i1, j1) - _planar_angle(x0, i1, j1))
-        return _wrap(turn)
+        turn = planar_turn(p.target[1]) - planar_turn(p.target[0])
+        return ca.atan2(ca.sin(turn), ca.cos(turn))
     if p.kind == "rotation":
         a, origin, k = _axis_angle_setup(mech, p)
-        r, r0 = x[k] - origin, x0[k] - origin
-        r, r0 = r - (r @ a) * a, r0 - (r0 @ a) * a
-        return math.atan2(float(np.cross(r0, r) @ a), float(r0 @ r))
+        r, r0 = node(k) - origin, x0[k] - origin
+        r = r - ca.dot(r, a) * a
+        r0 = r0 - (r0 @ a) * a
+        return ca.atan2(ca.dot(ca.cross(ca.DM(r0), r), a), ca.dot(ca.DM(r0), r))
     if p.kind == "velocity":
         i = mech.node_index()[p.target[0]]
         axis = AXES.index(p.component) if p.component else c.component
-        return float(x[i, axis] - x0[i, axis])
+        return x[dim * i + axis] - x0[i, axis]
     if p.kind == "slide":
         s = mech.slider(p.target[0])
         idx = mech.node_index()
         k = idx[s.node]
         if s.kind == "moving_line":
             a_, c_ = idx[s.line[0]], idx[s.line[1]]
-
-            def along(xx):
-                u = xx[c_] - xx[a_]
-                return float((xx[k] - xx[a_]) @ (u / np.linalg.norm(u)))
-            return along(x) - along(x0)
+            u = node(c_) - node(a_)
+            u0 = x0[c_] - x0[a_]
+            along0 = float((x0[k] - x0[a_]) @ (u0 / np.linalg.norm(u0)))
+            return ca.dot(node(k) - node(a_), u / ca.norm_2(u)) - along0
         d = np.array(s.direction, float)
-        return float((x[k] - x0[k]) @ (d / np.linalg.norm(d)))
+        return ca.dot(node(k) - x0[k], d / np.linalg.norm(d))
     raise SymkinError(f"{c.label}: a {p.kind} cannot drive a path; use rotation, slide, velocity "
                       "components or joint inputs")
-
-
-def _gradient(c: InputCoordinate, mech, x) -> np.ndarray:
-    """Gradient over all coordinates, shape (n, dim)."""
-    p = c.parameter
-    g = np.zeros_like(x)
-    if p.kind in ("rotation", "joint") and mech.dim == 2:
-        links = [(p.target[0], 1.0)] if p.kind == "rotation" else [(p.target[1], 1.0), (p.target[0], -1.0)]
-        for link, sign in links:
-            i, j = _pair(mech, link)
-            d = x[j] - x[i]
-            perp = np.array([-d[1], d[0]]) / float(d @ d)
-            g[j] += sign * perp
-            g[i] -= sign * perp
-        return g
-    if p.kind == "rotation":
-        a, origin, k = _axis_angle_setup(mech, p)
-        r = x[k] - origin
-        r = r - (r @ a) * a
-        g[k] = np.cross(a, r) / float(r @ r)
-        return g
-    if p.kind == "velocity":
-        i = mech.node_index()[p.target[0]]
-        g[i, AXES.index(p.component) if p.component else c.component] = 1.0
-        return g
-    if p.kind == "slide":
-        s = mech.slider(p.target[0])
-        idx = mech.node_index()
-        k = idx[s.node]
-        if s.kind == "moving_line":
-            a_, c_ = idx[s.line[0]], idx[s.line[1]]
-            e = x[c_] - x[a_]
-            le = float(np.linalg.norm(e))
-            u = e / le
-            w = x[k] - x[a_]
-            du = (w - (w @ u) * u) / le  # derivative of (w·u) with respect to x_C
-            g[k] += u
-            g[a_] -= u + du
-            g[c_] += du
-            return g
-        d = np.array(s.direction, float)
-        g[k] = d / np.linalg.norm(d)
-        return g
-    raise SymkinError(f"{c.label}: a {p.kind} cannot drive a path")
 
 
 def input_coordinates(mech: Mechanism, params=None) -> tuple[InputCoordinate, ...]:
@@ -212,3 +168,62 @@ def parse_input_label(mech: Mechanism, label: str) -> InputCoordinate:
         return input_coordinates(mech, [Parameter("velocity", (target,), component=comp)])[0]
     known = ", ".join(c.label for c in input_coordinates(mech)) or "none"
     raise SymkinError(f"unknown input {label!r} (the model's inputs: {known})")
+
+
+@dataclass(frozen=True)
+class LinearInput:
+    """A linear combination ``Σ w_j · value_j`` of input coordinates (a path's drive or a held input).
+
+    With one term of weight 1 it is that coordinate.  For a straight segment in input space
+    (direction ``d``) the drive is ``λ = Σ d_j value_j / |d|²``, so the inputs are ``λ·d`` along
+    it.  ``kind`` is the terms' common kind (``"angle"`` / ``"length"``), ``"dimensionless"``
+    for the held combinations of a segment, or ``"segment"`` when the kinds are mixed.
+    """
+
+    label: str
+    kind: str
+    terms: tuple[tuple[InputCoordinate, float], ...]
+
+    @classmethod
+    def single(cls, c: InputCoordinate) -> "LinearInput":
+        return cls(c.label, c.kind, ((c, 1.0),))
+
+    def expression(self, mech: Mechanism, x, x0: np.ndarray):
+        """CasADi expression of ``Σ w_j value_j`` (see :meth:`InputCoordinate.expression`)."""
+        return sum(w * c.expression(mech, x, x0) for c, w in self.terms)
+
+    def absolute(self, mech: Mechanism, x: np.ndarray) -> float | None:
+        if len(self.terms) == 1 and self.terms[0][1] == 1.0:
+            return self.terms[0][0].absolute(mech, x)
+        return None
+
+
+def segment_inputs(mech: Mechanism, direction: dict[str, float], length_scale: float
+                   ) -> tuple[LinearInput, tuple[LinearInput, ...]]:
+    """Drive and held combinations for the straight segment ``inputs = λ · direction``.
+
+    ``direction`` maps input labels to their rate per unit ``λ`` (radians or model lengths);
+    every other input of the model is held at its value; the held combinations span the
+    complement of the direction among the named inputs (lengths divided by ``length_scale``
+    so that the complement is scale invariant).
+    """
+    coords = [parse_input_label(mech, label) for label in direction]
+    d = np.array([float(direction[label]) for label in direction])
+    if not np.any(d):
+        raise SymkinError("the direction in input space is zero")
+    kinds = {c.kind for c in coords}
+    label = " + ".join(f"{w:g}·{c.label}" for c, w in zip(coords, d)) if len(coords) > 1 else coords[0].label
+    norm2 = float(d @ d)
+    drive = LinearInput(label, kinds.pop() if len(kinds) == 1 else "segment",
+                        tuple((c, float(w) / norm2) for c, w in zip(coords, d)))
+    scales = np.array([1.0 if c.kind == "angle" else length_scale for c in coords])
+    dhat = d / scales
+    dhat = dhat / np.linalg.norm(dhat)
+    # complement of dhat: the last rows of an orthonormal basis whose first row is dhat
+    q, _ = np.linalg.qr(np.column_stack([dhat, np.eye(len(coords))]))
+    held = [LinearInput(f"held {k + 1}", "dimensionless",
+                        tuple((c, float(q[j, k + 1] / scales[j])) for j, c in enumerate(coords)))
+            for k in range(len(coords) - 1)]
+    named = {c.label for c in coords}
+    held += [LinearInput.single(c) for c in input_coordinates(mech) if c.label not in named]
+    return drive, tuple(held)

@@ -17,6 +17,7 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from symkin.errors import NotConvergedError
 from symkin.paths.continuation import CurvePoint, CurveProblem, point_at, tangent
 
 __all__ = ["TestFunction", "CurveEvent", "locate_sign_change", "locate_minimum"]
@@ -67,15 +68,30 @@ def locate_sign_change(problem: CurveProblem, test: TestFunction, a: CurvePoint,
         y = point_at(problem, a, sigma)
         return y, tangent(problem, y, a.t)
 
-    f = _Counter(lambda sg: test.f(*at(sg)))
     fa, fb = test.f(a.y, a.t), test.f(b.y, b.t)
+
+    def value(sg):
+        # the bracket's ends keep the values seen at the accepted points (recomputing them at
+        # a re-projected point with a re-oriented tangent could lose the sign change)
+        if sg == 0.0:
+            return fa
+        if sg == sigma_b:
+            return fb
+        return test.f(*at(sg))
+
+    f = _Counter(value)
     if fa == 0.0:
         root = 0.0
     elif fb == 0.0:
         root = sigma_b
     else:
-        root = brentq(f, 0.0, sigma_b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=200)
-    y, t = at(root)
+        try:
+            root = brentq(f, 0.0, sigma_b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=200)
+        except NotConvergedError:
+            # the curve cannot be projected inside the bracket: a branch point lies there.  Return
+            # the end with the smaller test value; the caller refines branch points on their own.
+            root = 0.0 if abs(fa) <= abs(fb) else sigma_b
+    y, t = at(root) if root not in (0.0, sigma_b) else ((a.y, a.t) if root == 0.0 else (b.y, b.t))
     return CurveEvent(test.name, "sign change", y, t, a.s + _chord(a, y), test.f(y, t), f.n + 2)
 
 

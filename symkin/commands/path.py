@@ -1,0 +1,135 @@
+"""``symkin path MODEL --input LABEL --from A --to B``: trace a path and locate its singular configurations."""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import sys
+
+from symkin.commands import Output
+from symkin.errors import SymkinError
+from symkin.model.model_file import read_model
+
+NAME = "path"
+HELP = ("move a mechanism along one input (finite displacements), locate every singular configuration "
+        "on the way, and classify it")
+
+
+def add_arguments(p) -> None:
+    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("--input", default=None,
+                   help="driving input label, e.g. rotation:crank (default: the model's first input); "
+                        "with F > 1 the model's other inputs are held at their values")
+    p.add_argument("--from", dest="start", type=float, default=0.0,
+                   help="start value, measured from the model's configuration (default 0)")
+    p.add_argument("--to", dest="stop", type=float, required=True, help="end value (same unit)")
+    p.add_argument("--unit", choices=("deg", "rad"), default="deg",
+                   help="unit of --from/--to for angle inputs (default deg; lengths are in model units)")
+    p.add_argument("--steps", type=int, default=None,
+                   help="at least this many points over the range (bounds the input change per step)")
+    p.add_argument("--max-arclength", type=float, default=None,
+                   help="stop after this arclength, in units of the model's length scale (default 60)")
+    out = p.add_mutually_exclusive_group()
+    out.add_argument("--json", action="store_true", help="print one JSON object (points and events)")
+    out.add_argument("--csv", metavar="FILE", default=None,
+                     help="write the points (input, indicators, coordinates) as CSV to FILE")
+    p.add_argument("--plot", metavar="FILE.png", default=None,
+                   help="write a figure of the indicators along the path and the node traces")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on the terminal")
+
+
+def _progress_bar(enabled: bool):
+    """A tqdm bar on stderr when it is a terminal (never mixed into stdout / --json)."""
+    if not enabled or not sys.stderr.isatty():
+        return None, None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None, None
+    bar = tqdm(total=1000, desc="tracing", unit="‰", file=sys.stderr, leave=False)
+
+    def update(fraction: float) -> None:
+        target = int(1000 * fraction)
+        if target > bar.n:
+            bar.update(target - bar.n)
+    return bar, update
+
+
+def _text(path, unit: str) -> str:
+    conv = 180.0 / math.pi if (path.kind == "angle" and unit == "deg") else 1.0
+    u = unit if path.kind == "angle" else "(model length units)"
+    lines = [f"{path.mechanism.name}: {path.drive} traced, {len(path.points)} points; "
+             f"stopped: {path.message}.", ""]
+    sing = path.singular_events()
+    if not sing:
+        lines.append("No singular configuration on the way.")
+    for k, e in enumerate(sing, 1):
+        a = e.analysis
+        absolute = f", absolute {e.absolute * conv:.10g} {u}" if e.absolute is not None else ""
+        lines.append(f"{k}. {e.kind} at {path.drive} = {e.input * conv:.10g} {u}{absolute} "
+                     f"(found by {', '.join(e.tests)})")
+        if a is not None:
+            lines.append(f"   types: {', '.join(a.types) or 'none'}; L = {a.dof}, F = {a.mobility}"
+                         + (f"; locked links: {', '.join(a.locked_links)}" if a.locked_links else ""))
+            for r in a.input_relations:
+                lines.append(f"   input relation (r = {r.r}): {r}")
+            for r in a.output_relations:
+                lines.append(f"   output relation (r = {r.r}): {r}")
+        if e.bifurcation is not None:
+            lines.append(f"   branches: {e.bifurcation.status} — {e.bifurcation.message}")
+    lines += ["", f"{path.residual_evaluations} residual evaluations."]
+    return "\n".join(lines)
+
+
+def _csv(path, unit: str) -> str:
+    conv = 180.0 / math.pi if (path.kind == "angle" and unit == "deg") else 1.0
+    keys = sorted({k for p in path.points for k in p.indicators})
+    dim = path.mechanism.dim
+    coords = [f"{c}_{n}" for n in path.node_names for c in "xyz"[:dim]]
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["input", "absolute", "s"] + keys + coords)
+    for p in path.points:
+        w.writerow([p.input * conv, "" if p.absolute is None else p.absolute * conv, p.s]
+                   + [p.indicators.get(k, "") for k in keys] + list(p.coordinates.ravel()))
+    return buf.getvalue()
+
+
+def run(args) -> Output:
+    from symkin.paths.trace import trace
+
+    mech = read_model(args.model)
+    if args.steps is not None and args.steps < 1:
+        raise SymkinError(f"{args.model}: --steps must be a positive integer")
+    if args.start == args.stop:
+        raise SymkinError(f"{args.model}: --from and --to are equal: nothing to trace")
+    bar, update = _progress_bar(not args.no_progress and not args.json)
+    try:
+        path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
+                     max_arclength=args.max_arclength, progress=update, steps=args.steps)
+    except SymkinError as exc:
+        raise SymkinError(f"{args.model}: {exc}") from None
+    finally:
+        if bar is not None:
+            bar.close()
+    notes = []
+    if args.plot:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise SymkinError("--plot needs matplotlib: pip install 'symkin[plots]'") from None
+        from symkin.plots import save_path_figures
+
+        notes.append(f"figure written to {save_path_figures(path, args.plot, unit=args.unit)}")
+    if args.csv:
+        from pathlib import Path as _P
+
+        target = _P(args.csv)
+        tmp = target.with_name(target.name + ".tmp")
+        tmp.write_text(_csv(path, args.unit))
+        tmp.replace(target)
+        notes.append(f"{len(path.points)} points written to {target}")
+    if args.json:
+        return Output(json.dumps(path.to_dict(args.unit), indent=1), message="\n".join(notes))
+    return Output(_text(path, args.unit), message="\n".join(notes))

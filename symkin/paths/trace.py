@@ -1,0 +1,468 @@
+"""Trace a mechanism along its input, locate singular configurations and classify them.
+
+:func:`trace` continues the position problem (:class:`~symkin.paths.system.MechanismCurve`)
+with pseudo-arclength steps (:mod:`symkin.paths.continuation`), evaluates indicators at
+every accepted point, and refines every event to machine precision
+(:mod:`symkin.paths.events`):
+
+* ``DKP-input`` — sign change of ``det[J_sel; P̂_in] / sqrt(det(J_sel J_selᵀ))`` (J_sel:
+  independent geometric rows chosen at the start, P̂_in: unit input rows), which equals
+  ``± det(P̂_in V)`` for an orthonormal motion-space basis V: a turning point of the input
+  when F = 1;
+* ``DKP-output`` — the same with the output rows (or, when the outputs are not F
+  scalars, a near-zero minimum of the smallest restricted output singular value);
+* ``bifurcation`` — sign change of ``det[J_H; tᵀ]``, the augmented Jacobian of the
+  continuation: a simple branch point (IM);
+* ``IM`` — a near-zero minimum of ``σ_{F+1}`` (the square root of the paper's IM indicator,
+  which touches zero without changing sign), for tangent branch points;
+* ``end`` — the input reaches the requested value.
+
+Every located event is classified by :func:`symkin.analyze`, and bifurcations get the
+second-order branch analysis of :mod:`symkin.paths.branching`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+from symkin.analysis.classification import Analysis, analyze
+from symkin.errors import NotConvergedError, SymkinError
+from symkin.model.mechanism import Mechanism
+from symkin.paths.branching import Bifurcation, branch_directions, refine_singular_point
+from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
+from symkin.paths.events import CurveEvent, TestFunction, locate_minimum, locate_sign_change
+from symkin.paths.system import MechanismCurve, make_curve
+
+__all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
+
+_IM_DETECT = 0.05   # a local minimum of σ_{F+1} below this is refined
+_IM_ACCEPT = 1e-7   # ... and is an IM event when the refined minimum is below this
+_NEAR_IM = 1e-5     # an event located where σ_{F+1} is below this is refined as a branch point
+
+
+@dataclass(frozen=True)
+class PathPoint:
+    """One accepted point: driving input (radians / model units), arclength, coordinates, indicators."""
+
+    input: float
+    s: float
+    coordinates: np.ndarray = field(repr=False)
+    indicators: dict = field(repr=False)
+    absolute: float | None = None
+
+
+@dataclass(frozen=True)
+class PathEvent:
+    """A located singular configuration (or the path's end) and its full analysis."""
+
+    kind: str
+    input: float
+    s: float
+    coordinates: np.ndarray = field(repr=False)
+    analysis: Analysis | None = field(repr=False)
+    value: float
+    evaluations: int
+    absolute: float | None = None
+    bifurcation: Bifurcation | None = field(default=None, repr=False)
+    y: np.ndarray | None = field(default=None, repr=False, compare=False)
+    t: np.ndarray | None = field(default=None, repr=False, compare=False)
+    tests: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Path:
+    """Result of :func:`trace`.
+
+    ``stop_reason`` is ``"reached"`` (the input reached its target), ``"closed"`` (a full loop
+    back to the start), ``"max_arclength"`` or ``"stuck"`` (the step size collapsed;
+    ``message`` says where).  Angles are kept in radians; :meth:`to_dict` converts.
+    """
+
+    mechanism: Mechanism = field(repr=False)
+    drive: str
+    kind: str  # "angle" or "length"
+    points: tuple[PathPoint, ...] = field(repr=False)
+    events: tuple[PathEvent, ...]
+    stop_reason: str
+    message: str
+    residual_evaluations: int
+    node_names: tuple[str, ...] = field(repr=False, default=())
+    curve: MechanismCurve | None = field(default=None, repr=False, compare=False)
+
+    def singular_events(self) -> tuple[PathEvent, ...]:
+        return tuple(e for e in self.events if e.kind != "end")
+
+    def to_dict(self, unit: str = "rad") -> dict:
+        """JSON-ready: ``points`` and ``events`` with inputs in ``unit`` (``"deg"`` or ``"rad"``)."""
+        conv = (180.0 / math.pi) if (unit == "deg" and self.kind == "angle") else 1.0
+
+        def cfg(c):
+            return {n: [float(v) for v in row] for n, row in zip(self.node_names, c)}
+
+        def num(v):
+            return None if v is None else float(v) * conv
+
+        points = [{"input": num(p.input), "absolute": num(p.absolute), "s": p.s,
+                   "configuration": cfg(p.coordinates), "indicators": dict(p.indicators)} for p in self.points]
+        events = []
+        for e in self.events:
+            a = e.analysis
+            item = {"input": num(e.input), "absolute": num(e.absolute), "s": e.s, "kind": e.kind,
+                    "types": list(a.types) if a else [], "locked_links": list(a.locked_links) if a else [],
+                    "dof": a.dof if a else None, "configuration": cfg(e.coordinates),
+                    "tests": list(e.tests), "test_value": e.value, "evaluations": e.evaluations}
+            if a is not None:
+                item["analysis"] = a.to_dict()
+            if e.bifurcation is not None:
+                item["branches"] = {"status": e.bifurcation.status, "message": e.bifurcation.message,
+                                    "directions": [list(map(float, d)) for d in e.bifurcation.directions]}
+            events.append(item)
+        return {"mechanism": self.mechanism.name, "input": self.drive, "unit": unit if self.kind == "angle" else
+                "model length", "stop_reason": self.stop_reason, "message": self.message,
+                "residual_evaluations": self.residual_evaluations, "points": points, "events": events}
+
+
+# ---------------------------------------------------------------------- helpers
+class _Counting:
+    """Wraps a curve problem and counts residual evaluations (for the benchmark)."""
+
+    def __init__(self, problem):
+        self.problem, self.count = problem, 0
+
+    def residual(self, y):
+        self.count += 1
+        return self.problem.residual(y)
+
+    def jacobian(self, y):
+        return self.problem.jacobian(y)
+
+    def residual_and_jacobian(self, y):
+        self.count += 1
+        return self.problem.residual_and_jacobian(y)
+
+    def second_derivative(self, y, v):
+        return self.problem.second_derivative(y, v)
+
+
+def _independent_rows(a: np.ndarray, count: int) -> list[int]:
+    """Indices of ``count`` well-conditioned independent rows of ``a`` (QR with column pivoting)."""
+    from scipy.linalg import qr
+
+    _, _, piv = qr(a.T, pivoting=True, mode="economic")
+    return sorted(int(k) for k in piv[:count])
+
+
+def _unit_rows(p: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(p, axis=1, keepdims=True)
+    return p / np.where(n > 0, n, 1.0)
+
+
+def _test_functions(curve: MechanismCurve, y0: np.ndarray) -> list[TestFunction]:
+    """Signed DKP / bifurcation determinants and the IM minimum test (see module docstring)."""
+    mech = curve.mech
+    f = mech.mobility_value
+    jf, pin, pout = curve.rows(y0)
+    nf = jf.shape[1]
+    sel = _independent_rows(jf, nf - f) if nf - f > 0 else []
+    jh = curve.jacobian(y0)
+    sel_h = _independent_rows(jh, jh.shape[1] - 1)
+    tests = []
+
+    def det_with(rows_index):
+        """det[J_sel; P̂] / sqrt(det(J_sel J_selᵀ)) = ± det(P̂ V): signed, dimensionless, |·| <= 1."""
+        def fn(y, t):
+            j, a, b = curve.rows(y)
+            js = j[sel]
+            extra = _unit_rows((a, b)[rows_index])
+            gram = float(np.linalg.det(js @ js.T)) if len(sel) else 1.0
+            return float(np.linalg.det(np.vstack([js, extra]))) / math.sqrt(max(gram, np.finfo(float).tiny))
+        return fn
+
+    if pin.shape[0] == f and f > 0:
+        tests.append(TestFunction("DKP-input", det_with(0)))
+    if pout.shape[0] == f and f > 0:
+        tests.append(TestFunction("DKP-output", det_with(1)))
+    elif pout.shape[0] > 0:
+        def out_sigma(y, t):
+            j, _, b = curve.rows(y)
+            v = np.linalg.svd(j, full_matrices=True)[2][np.linalg.matrix_rank(j):].T
+            s = np.linalg.svd(_unit_rows(b) @ v, compute_uv=False)
+            return float(s[min(f, len(s)) - 1]) if len(s) else 0.0
+        tests.append(TestFunction("DKP-output", out_sigma, signed=False, threshold=_IM_ACCEPT))
+
+    def bif(y, t):
+        return float(np.linalg.det(np.vstack([curve.jacobian(y)[sel_h], t[None, :]])))
+    tests.append(TestFunction("bifurcation", bif))
+
+    def im_sigma(y, t):
+        j, _, _ = curve.rows(y)
+        s = np.sort(np.concatenate([np.linalg.svd(j, compute_uv=False), np.zeros(max(0, nf - j.shape[0]))]))
+        return float(s[f]) if f < s.size else math.inf
+    tests.append(TestFunction("IM", im_sigma, signed=False, threshold=_IM_ACCEPT))
+    return tests
+
+
+def _indicators(tests: list[TestFunction], y, t) -> dict:
+    vals = {tf.name: tf.f(y, t) for tf in tests}
+    out = {"im_indicator": vals["IM"] ** 2 if math.isfinite(vals["IM"]) else None,
+           "im_sigma": vals["IM"], "bifurcation": vals["bifurcation"]}
+    for k in ("DKP-input", "DKP-output"):
+        if k in vals:
+            out[k] = vals[k]
+    return out
+
+
+def _unwrap(value: float, reference: float, kind: str) -> float:
+    if kind != "angle":
+        return value
+    return reference + math.remainder(value - reference, 2 * math.pi)
+
+
+# ---------------------------------------------------------------------- main entry points
+def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: float = 0.0, stop: float = 2 * math.pi,
+          unit: str = "rad", max_arclength: float | None = None, settings: Settings | None = None,
+          progress: Callable[[float], None] | None = None, branch_analysis: bool = True,
+          steps: int | None = None) -> Path:
+    """Move ``mech`` by its input from ``start`` to ``stop`` and locate every singular configuration.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        At its model configuration (input value 0 there).
+    input : str or dict, optional
+        Label of the driving input (``rotation:crank``, ``slide:piston``, ...); default the
+        model's first input.  With F > 1 the model's other inputs are held at their values.
+        A mapping ``{label: rate}`` moves several inputs along a straight segment in input
+        space, ``inputs = λ · rate``; ``start``/``stop`` are then values of ``λ``.
+    start, stop : float
+        Input values measured from the model's configuration, in ``unit``.
+    unit : {"rad", "deg"}
+        Unit of ``start``/``stop`` for angle inputs (ignored for lengths: model units).
+    max_arclength : float, optional
+        Stop after this arclength in units of the model's length scale (default 60).
+    steps : int, optional
+        At least this many points over the input range: a step may change the input by at
+        most ``|stop − start| / steps`` (the step control may take more, smaller steps).
+    progress : callable, optional
+        Called with the fraction of the input range covered (for a progress bar).
+
+    Returns
+    -------
+    Path
+        Points with indicators, located events (each with its :class:`Analysis`), and why
+        it stopped.
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> p = trace(get("fourbar_appendix"), stop=360, unit="deg")
+    >>> p.stop_reason, sorted({e.kind for e in p.singular_events()})
+    ('reached', ['DKP-output'])
+    """
+    if unit not in ("rad", "deg"):
+        raise SymkinError(f"unit must be 'rad' or 'deg', got {unit!r}")
+    curve = make_curve(mech, input)
+    conv = math.pi / 180.0 if (unit == "deg" and curve.drive.kind == "angle") else 1.0
+    start, stop = start * conv, stop * conv
+    settings = settings or Settings()
+    counted = _Counting(curve)
+    y0 = curve.y0()
+    res = np.linalg.norm(curve.residual(y0))
+    if res > 1e-9:
+        y0, _, res = newton(counted, y0)
+    if start != 0.0:
+        y0 = _move_to(counted, curve, y0, start, settings)
+    _check_regular_start(curve, y0, drive_label=curve.drive.label)
+    max_change = abs(stop - start) / steps if steps else None
+    return _run(counted, curve, y0, start, stop, max_arclength, settings, progress, branch_analysis,
+                max_change=max_change)
+
+
+def _check_regular_start(curve: MechanismCurve, y0: np.ndarray, drive_label: str) -> None:
+    """A path cannot start where its curve branches (the tangent is not defined there)."""
+    s = np.linalg.svd(curve.jacobian(y0), compute_uv=False)
+    n = curve.jacobian(y0).shape[1]
+    s_full = np.sort(np.concatenate([s, np.zeros(max(0, n - s.size))]))
+    if s_full.size >= 2 and s_full[1] <= 1e-8 * max(s_full[-1], 1.0):
+        a = analyze(curve.mech.with_coordinates(curve.x_of(y0)))
+        raise SymkinError(
+            f"{curve.mech.name}: the start configuration is a branch point of the path driven by "
+            f"{drive_label} (types {', '.join(a.types) or 'none'}, L = {a.dof}): the direction of motion "
+            "is not defined there. Start from a model file at a nearby regular configuration, or "
+            "continue along one branch with symkin.paths.trace.follow_branch.")
+
+
+def _initial_tangent(curve, y0, direction: float) -> np.ndarray:
+    t = tangent(curve, y0)
+    rate = curve.drive_rate(y0, t)
+    if rate * direction < 0:
+        t = -t
+    return t
+
+
+def _move_to(counted, curve, y0, target, settings) -> np.ndarray:
+    """Continue from the model's configuration to input value ``target`` (no events recorded)."""
+    path = _run(counted, curve, y0, 0.0, target, None, settings, None, False, record=False)
+    if path.stop_reason != "reached":
+        raise SymkinError(f"cannot reach the start value: the input turns back before it ({path.message})")
+    return curve.y_of(path.points[-1].coordinates.ravel()[curve.free])
+
+
+_KIND_ORDER = ("IM", "DKP-input", "DKP-output")
+_MERGE = 1e-6  # events closer than this (in units of the length scale) are one configuration
+
+
+def _kind(test_name: str) -> str:
+    return "IM" if test_name in ("bifurcation", "IM") else test_name
+
+
+def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, settings, progress,
+         branch_analysis, record: bool = True, t0: np.ndarray | None = None,
+         max_change: float | None = None) -> Path:
+    mech = curve.mech
+    kind = curve.drive.kind
+    scale_in = 1.0 if kind == "angle" else curve.scale
+    direction = 1.0 if stop >= start else -1.0
+    if t0 is None:
+        t0 = _initial_tangent(curve, y0, direction)
+    tests = _test_functions(curve, y0) if record else []
+    max_s = 60.0 if max_arclength is None else float(max_arclength)
+    reference = {"value": start}
+
+    def input_of(y):
+        return _unwrap(curve.input_value(y), reference["value"], kind)
+
+    end_test = TestFunction("end", lambda y, t: (input_of(y) - stop) / scale_in)
+    points: list[PathPoint] = []
+    found: list[dict] = []  # located events: y, t, s, value, evaluations, tests, input
+    reason, message = "max_arclength", f"arclength limit {max_s:g} (model length units) reached"
+    history: list[tuple[CurvePoint, dict, float]] = []
+
+    im_test = next((tf for tf in tests if tf.name == "IM"), None)
+
+    def record_event(ev: CurveEvent, ref: float) -> None:
+        y, t = ev.y, ev.t
+        name = ev.name
+        if name != "IM" and _kind(name) != "IM" and im_test is not None and im_test.f(y, t) < _NEAR_IM:
+            name = "IM"  # a DKP test that fired at (or next to) a branch point: locate the branch point
+        if _kind(name) == "IM":
+            y, _ = refine_singular_point(counted, y)
+            t = tangent(counted, y, ev.t)
+        ev = CurveEvent(name, ev.kind, y, t, ev.s, ev.value, ev.evaluations) if name != ev.name else ev
+        reference["value"] = ref
+        value = input_of(y)
+        for item in found:
+            if np.linalg.norm(item["y"] - y) < _MERGE:
+                item["tests"].append(ev.name)
+                if _KIND_ORDER.index(_kind(ev.name)) < _KIND_ORDER.index(item["kind"]):
+                    item.update(kind=_kind(ev.name), y=y, t=t, input=value)
+                item["evaluations"] += ev.evaluations
+                return
+        found.append({"kind": _kind(ev.name), "y": y, "t": t, "s": ev.s, "value": ev.value, "input": value,
+                      "evaluations": ev.evaluations, "tests": [ev.name]})
+
+    end_event = None
+    try:
+        def guard(previous, y):
+            if max_change is None:
+                return True
+            before = _unwrap(curve.input_value(previous.y), reference["value"], kind)
+            return abs(_unwrap(curve.input_value(y), before, kind) - before) <= max_change
+
+        for cp in continue_curve(counted, y0, t0, settings, guard=guard):
+            prev_value = history[-1][2] if history else start
+            reference["value"] = prev_value
+            value = input_of(cp.y)
+            vals = {tf.name: tf.f(cp.y, cp.t) for tf in tests}
+            if history:
+                pcp, pvals, pvalue = history[-1]
+                for tf in tests:
+                    if tf.signed and np.sign(pvals[tf.name]) * np.sign(vals[tf.name]) < 0:
+                        reference["value"] = pvalue
+                        record_event(locate_sign_change(counted, tf, pcp, cp), pvalue)
+                if len(history) >= 2:
+                    (a, av, _), (b, bv, bvalue) = history[-2], history[-1]
+                    for tf in tests:
+                        if not tf.signed and bv[tf.name] < _IM_DETECT and bv[tf.name] <= av[tf.name] \
+                                and bv[tf.name] <= vals[tf.name]:
+                            ev = locate_minimum(counted, tf, a, b, cp)
+                            if ev is not None:
+                                record_event(ev, bvalue)
+                if (pvalue - stop) * direction < 0 <= (value - stop) * direction:
+                    reference["value"] = pvalue
+                    ev = locate_sign_change(counted, end_test, pcp, cp)
+                    end_event = (ev, stop)
+                    reason, message = "reached", "the input reached its target value"
+                    break
+                crossed = float(t0 @ (pcp.y - y0)) < 0 <= float(t0 @ (cp.y - y0))
+                if crossed and cp.s > 4 * settings.step and np.linalg.norm(cp.y - y0) < 2 * settings.max_step:
+                    reason, message = "closed", "the path closed on its start (a full loop)"
+                    turns = round((value - start) / (2 * math.pi)) if kind == "angle" else 0
+                    points.append(_point(curve, y0, start + 2 * math.pi * turns, cp.s, tests, t0))
+                    break
+            points.append(_point(curve, cp.y, value, cp.s, tests, cp.t))
+            history.append((cp, vals, value))
+            history[:] = history[-2:]
+            if progress is not None and stop != start:
+                progress(min(1.0, max(0.0, (value - start) / (stop - start))))
+            if cp.s > max_s:
+                break
+    except (SteppingError, NotConvergedError) as exc:
+        reason, message = "stuck", str(exc)
+
+    events = []
+    for item in sorted(found, key=lambda it: it["s"]):
+        x = curve.x_of(item["y"])
+        analysis = analyze(mech.with_coordinates(x))
+        bif = branch_directions(counted, item["y"]) if (branch_analysis and item["kind"] == "IM") else None
+        events.append(PathEvent(item["kind"], item["input"], item["s"], x, analysis, item["value"],
+                                item["evaluations"], curve.drive.absolute(mech, x), bif, item["y"], item["t"],
+                                tuple(dict.fromkeys(item["tests"]))))
+    if end_event is not None:
+        ev, value = end_event
+        points.append(_point(curve, ev.y, value, ev.s, tests, ev.t))
+        if record:
+            events.append(PathEvent("end", value, ev.s, curve.x_of(ev.y), None, ev.value, ev.evaluations,
+                                    curve.drive.absolute(mech, curve.x_of(ev.y)), None, ev.y, ev.t, ("end",)))
+    return Path(mech, curve.drive.label, kind, tuple(points), tuple(events), reason, message, counted.count,
+                mech.node_names, curve)
+
+
+def _point(curve, y, value, s, tests, t) -> PathPoint:
+    x = curve.x_of(y)
+    return PathPoint(value, s, x, _indicators(tests, y, t) if tests else {}, curve.drive.absolute(curve.mech, x))
+
+
+def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float = 1.0,
+                  stop: float | None = None, unit: str = "rad", max_arclength: float = 20.0,
+                  settings: Settings | None = None) -> Path:
+    """Continue from a bifurcation event along one of its branches.
+
+    ``branch`` indexes ``event.bifurcation.directions``; ``sign`` picks the half-branch.
+    The returned path's first point is the bifurcation point itself (arclength 0).
+    """
+    ev = path.events[event] if isinstance(event, int) else event
+    if ev.bifurcation is None or ev.bifurcation.status != "simple":
+        status = ev.bifurcation.status if ev.bifurcation else "not analysed"
+        msg = ev.bifurcation.message if ev.bifurcation else ""
+        raise SymkinError(f"no branch switching at this event: {status} {msg}".strip())
+    curve = path.curve
+    direction = sign * ev.bifurcation.directions[branch]
+    settings = settings or Settings()
+    counted = _Counting(curve)
+    # first step off the bifurcation point along the chosen direction
+    base = CurvePoint(ev.y, direction / np.linalg.norm(direction), 0.0)
+    from symkin.paths.continuation import point_at
+
+    y1 = point_at(counted, base, settings.step)
+    conv = math.pi / 180.0 if (unit == "deg" and path.kind == "angle") else 1.0
+    value1 = curve.input_value(y1)
+    target = stop * conv if stop is not None else value1 + (1e9 if curve.drive_rate(y1, direction) >= 0 else -1e9)
+    t1 = tangent(counted, y1, direction)
+    sub = _run(counted, curve, y1, value1, target, max_arclength, settings, None, True, t0=t1)
+    tests = _test_functions(curve, y1)
+    first = _point(curve, ev.y, ev.input, 0.0, tests, direction)
+    return replace(sub, points=(first,) + sub.points)

@@ -1,0 +1,17 @@
+"""Plots of symkin results (matplotlib, imported only when a function is called).
+
+Every function takes ``ax=None`` (a new figure when ``None``), draws results it is given,
+and returns the Axes (networkx ``draw`` style):
+
+* :func:`plot_indicators` — IM indicator and signed DKP test functions along a path, with
+  the located events (paper Figs. 3c, 10);
+* :func:`plot_traces` — node traces of a path with its singular configurations (Fig. 5);
+* :func:`draw_mechanism` — a mechanism with motion-space vectors as arrows (Figs. 4, 6, 7,
+  11-13);
+* :func:`save_path_figures` — indicators and traces side by side in one PNG
+  (``symkin path ... --plot FILE.png``).
+"""
+from symkin.plots.mechanism import draw_mechanism
+from symkin.plots.paths import plot_indicators, plot_traces, save_path_figures
+
+__all__ = ["draw_mechanism", "plot_indicators", "plot_traces", "save_path_figures"]

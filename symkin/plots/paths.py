@@ -1,0 +1,310 @@
+"""Plots of a traced path: indicators with located events (Figs. 3c, 10) and node traces (Fig. 5).
+
+Both functions read a :class:`symkin.paths.trace.Path` and draw it; nothing is computed
+here but unit conversions.  :func:`save_path_figures` writes both side by side to a PNG
+(what ``symkin path ... --plot FILE.png`` writes) with matplotlib's Agg canvas, without
+touching pyplot's global state.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path as FilePath
+
+import numpy as np
+
+from symkin.errors import SymkinError
+from symkin.paths.trace import Path
+from symkin.plots.mechanism import coordinates, is_3d, new_axes, set_equal_3d
+
+__all__ = ["plot_indicators", "plot_traces", "save_path_figures", "abscissa"]
+
+#: colour and marker of each test function and of its located events
+STYLE = {
+    "IM": dict(colour="#d62728", marker="o"),
+    "DKP-input": dict(colour="#1f77b4", marker="s"),
+    "DKP-output": dict(colour="#2ca02c", marker="D"),
+    "bifurcation": dict(colour="#9467bd", marker="o"),
+}
+_CURVES = (  # indicator key, style key, legend label
+    ("im_indicator", "IM", r"IM indicator $\lambda_{F+1}$ (eigenvalue of G)"),
+    ("DKP-input", "DKP-input", "DKP-input test (signed determinant)"),
+    ("DKP-output", "DKP-output", "DKP-output test"),
+)
+_EVENT_KINDS = ("IM", "DKP-input", "DKP-output")
+_LINESTYLE = {"DKP-output": (0, (5, 2)), "bifurcation": ":"}  # dashed: visible where it overlaps DKP-input
+
+
+def _check(path: Path) -> None:
+    if not isinstance(path, Path):
+        raise SymkinError(f"expected a symkin Path (from symkin.paths.trace.trace), got {type(path).__name__}")
+    if not path.points:
+        raise SymkinError("the path has no points to plot")
+
+
+def _unit_factor(path: Path, unit: str) -> tuple[float, str]:
+    if unit not in ("deg", "rad"):
+        raise SymkinError(f"unit must be 'deg' or 'rad', got {unit!r}")
+    if path.kind != "angle":
+        return 1.0, "model length"
+    return (180.0 / math.pi, "deg") if unit == "deg" else (1.0, "rad")
+
+
+def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray, str, str]:
+    """The horizontal coordinate of :func:`plot_indicators`: ``(values, "input"|"arclength", label)``.
+
+    ``x="auto"`` uses the input when it is strictly monotone along the path, and the
+    arclength ``s`` otherwise (the input turns back at a DKP-input turning point of a
+    1-DOF mechanism, where a plot against the input would fold over itself).
+    """
+    if x not in ("auto", "input", "arclength"):
+        raise SymkinError(f"x must be 'auto', 'input' or 'arclength', got {x!r}")
+    conv, name = _unit_factor(path, unit)
+    inputs = np.array([p.input for p in path.points], float) * conv
+    steps = np.diff(inputs)
+    monotone = bool(np.all(steps > 0) or np.all(steps < 0)) if steps.size else True
+    if x == "input" or (x == "auto" and monotone):
+        return inputs, "input", f"input {path.drive} [{name}]"
+    s = np.array([p.s for p in path.points], float)
+    return s, "arclength", "arclength s along the path (in model length scales)"
+
+
+def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", bifurcation: bool = False,
+                    annotate: bool = True, yscale: str = "linear", linthresh: float = 1e-4):
+    """Plot the indicators along ``path`` with its located singular events (paper Figs. 3c, 10).
+
+    Drawn against the driving input when it is monotone along the path, else against the
+    arclength (see :func:`abscissa`; ``x`` forces one):
+
+    * the IM indicator ``λ_{F+1}``, the first eigenvalue of the reduced geometric matrix
+      above the F generic zeros (eq. 8, §IV-A, Fig. 10).  G is positive semidefinite, so
+      it touches zero at an IM configuration without changing sign;
+    * the signed DKP test functions, determinants of the velocity equations augmented by
+      the unit input (output) rows (eqs. 12, 16): they change sign at a DKP-input
+      (DKP-output) configuration;
+    * with ``bifurcation=True``, the determinant of the continuation's augmented Jacobian,
+      which changes sign at a simple branch point (IM);
+    * every located event (kinds IM, DKP-input, DKP-output) as a marker on the zero line,
+      in the colour of its test function, annotated with its input value.
+
+    All indicators are dimensionless, so one axis shows them together: linear by default (a
+    log scale would hide the sign changes of the determinants); ``yscale="symlog"`` magnifies
+    values near zero while keeping their signs.
+
+    Parameters
+    ----------
+    path : symkin.paths.trace.Path
+    ax : matplotlib Axes, optional
+        ``None`` creates a figure.
+    unit : {"deg", "rad"}
+        Unit of angle inputs on the axis and in the annotations.
+    x : {"auto", "input", "arclength"}
+    bifurcation : bool
+        Also draw the bifurcation test function.
+    annotate : bool
+        Write each event's input value next to its marker.
+    yscale : {"linear", "symlog"}
+        Vertical scale; ``"symlog"`` is linear within ``±linthresh`` and logarithmic outside.
+    linthresh : float
+        Linear range of the symlog scale.
+
+    Returns
+    -------
+    matplotlib Axes
+        Curves have ``gid`` ``indicator:KEY``; event markers ``event:KIND`` (one artist
+        per kind, one marker per event).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import symkin
+    >>> from symkin.paths.trace import trace
+    >>> from symkin.plots import plot_indicators
+    >>> p = trace(symkin.catalogue.get("fourbar_appendix"), stop=360, unit="deg")
+    >>> ax = plot_indicators(p)
+    >>> [l.get_gid() for l in ax.lines if l.get_gid().startswith("event")]
+    ['event:DKP-output']
+    """
+    _check(path)
+    if yscale not in ("linear", "symlog"):
+        raise SymkinError(f"yscale must be 'linear' or 'symlog', got {yscale!r}")
+    if ax is None:
+        ax = new_axes(False, figsize=(7.5, 4.8))
+    xs, mode, xlabel = abscissa(path, unit, x)
+    conv, uname = _unit_factor(path, unit)
+    curves = list(_CURVES) + ([("bifurcation", "bifurcation", "bifurcation test det[J; t]")] if bifurcation else [])
+    for key, style, label in curves:
+        vals = np.array([_num(p.indicators.get(key)) for p in path.points], float)
+        if not np.isfinite(vals).any():
+            continue
+        ax.plot(xs, vals, color=STYLE[style]["colour"], linewidth=1.6, label=label, gid=f"indicator:{key}",
+                linestyle=_LINESTYLE.get(key, "-"))
+    ax.axhline(0.0, color="black", linewidth=0.8, zorder=1, gid="zero")
+
+    events = [e for e in path.events if e.kind in _EVENT_KINDS]
+    for kind in _EVENT_KINDS:
+        chosen = [e for e in events if e.kind == kind]
+        if not chosen:
+            continue
+        ex = [(e.input * conv) if mode == "input" else e.s for e in chosen]
+        st = STYLE[kind]
+        ax.plot(ex, [0.0] * len(ex), linestyle="none", marker=st["marker"], markersize=8,
+                markerfacecolor=st["colour"], markeredgecolor="black", zorder=5,
+                label=f"{kind} event{'s' if len(ex) > 1 else ''} (located)", gid=f"event:{kind}")
+        if annotate:
+            for e, xe in zip(chosen, ex):
+                text = f"{kind}\n{e.input * conv:.4g}{'°' if uname == 'deg' else ''}"
+                ax.annotate(text, (xe, 0.0), xytext=(0, 12), textcoords="offset points", ha="center",
+                            fontsize=8, color=st["colour"], zorder=6,
+                            bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
+    if yscale == "symlog":
+        ax.set_yscale("symlog", linthresh=linthresh)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("indicator (dimensionless)")
+    if not ax.get_title():
+        ax.set_title(f"Indicators along the path ({path.stop_reason})", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=8, frameon=False)
+    return ax
+
+
+def _num(v) -> float:
+    return math.nan if v is None else float(v)
+
+
+def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True, annotate: bool = True):
+    """Plot the traces of nodes along ``path``, with the located singular configurations (Fig. 5).
+
+    Parameters
+    ----------
+    path : symkin.paths.trace.Path
+    nodes : sequence of str, optional
+        Nodes to trace; default every node that is not fixed and moves along the path.
+    ax : matplotlib Axes, optional
+        ``None`` creates a figure (3D axes for a spatial mechanism).  A spatial path drawn
+        on 2D axes is projected on the x-y plane.
+    show_mechanism : bool
+        Draw the mechanism at the path's first point in light grey, fixed nodes as
+        triangles.
+    annotate : bool
+        Write the kind of each singular event next to its dot.
+
+    Returns
+    -------
+    matplotlib Axes
+        One line per node (``gid`` ``trace:NODE``); the singular events (IM, DKP-input,
+        DKP-output) are black dots at the traced nodes (one artist, ``gid`` ``events``,
+        ``len(nodes)`` dots per event); the start positions ``gid`` ``start``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import symkin
+    >>> from symkin.paths.trace import trace
+    >>> from symkin.plots import plot_traces
+    >>> p = trace(symkin.catalogue.get("fourbar_appendix"), stop=360, unit="deg")
+    >>> ax = plot_traces(p)
+    >>> sorted(l.get_gid() for l in ax.lines if l.get_gid().startswith("trace"))
+    ['trace:B', 'trace:C']
+    """
+    _check(path)
+    mech = path.mechanism
+    names = list(path.node_names or mech.node_names)
+    xyz_all = np.array([p.coordinates for p in path.points], float)
+    if nodes is None:  # the nodes that move along the path (held legs of an F > 1 mechanism do not)
+        fixed = set(mech.fixed)
+        extent = np.ptp(xyz_all, axis=0).max(axis=1)
+        nodes = [n for k, n in enumerate(names) if n not in fixed and extent[k] > 1e-9 * mech.length_scale]
+    elif isinstance(nodes, str):
+        nodes = [nodes]
+    unknown = [n for n in nodes if n not in names]
+    if unknown:
+        raise SymkinError(f"unknown node(s) {', '.join(map(repr, unknown))}; nodes: {', '.join(names)}")
+    if ax is None:
+        ax = new_axes(mech.dim == 3)
+    three_d = is_3d(ax) and mech.dim == 3
+    ncoord = 3 if three_d else 2
+    cols = [names.index(n) for n in nodes]
+    xyz = xyz_all[:, :, :ncoord]  # (points, nodes, dims)
+    everything = [xyz.reshape(-1, ncoord)]
+
+    if show_mechanism:
+        first = xyz[0]
+        idx = {n: k for k, n in enumerate(names)}
+        for lname, lnodes in mech.links:
+            pts = first[[idx[n] for n in lnodes]]
+            if len(pts) > 2:
+                pts = np.vstack([pts, pts[:1]])
+            ax.plot(*pts.T, color="#b0b0b0", linewidth=2.0, zorder=1, gid=f"start-link:{lname}")
+        fixed_idx = [idx[n] for n in mech.fixed]
+        if fixed_idx:
+            ax.plot(*first[fixed_idx].T, linestyle="none", marker="^", markersize=10, color="black", zorder=3,
+                    gid="fixed", label="fixed nodes")
+        everything.append(coordinates(mech)[:, :ncoord])
+
+    for n, k in zip(nodes, cols):
+        ax.plot(*xyz[:, k, :].T, linewidth=1.6, label=f"trace of {n}", gid=f"trace:{n}", zorder=2)
+    ax.plot(*xyz[0, cols, :].T, linestyle="none", marker="o", markersize=6, markerfacecolor="white",
+            markeredgecolor="black", zorder=4, gid="start", label="start")
+
+    events = path.singular_events()
+    if events:
+        dots = np.vstack([np.asarray(e.coordinates, float)[cols, :ncoord] for e in events])
+        ax.plot(*dots.T, linestyle="none", marker="o", markersize=7, color="black", zorder=5, gid="events",
+                label="singular configurations (located)")
+        if annotate:
+            for e in events:
+                p = np.asarray(e.coordinates, float)[cols[0], :ncoord]
+                if three_d:
+                    ax.text(*p, f"  {e.kind}", fontsize=8)
+                else:
+                    ax.annotate(e.kind, p, xytext=(6, -10), textcoords="offset points", fontsize=8)
+
+    allp = np.vstack(everything)
+    if three_d:
+        set_equal_3d(ax, allp)
+        ax.set_zlabel("z")
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y" if (three_d or mech.dim == 2) else "y (x-y projection)")
+    if not ax.get_title():
+        ax.set_title(f"Node traces: {mech.name}", fontsize=10)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, borderaxespad=0.0)
+    return ax
+
+
+def save_path_figures(path: Path, filename, unit: str = "deg") -> FilePath:
+    """Write one PNG with the indicators (left) and the node traces (right) of ``path``.
+
+    Uses matplotlib's non-interactive Agg canvas on a standalone ``Figure`` (pyplot and
+    its backend are not touched), so it works headless.  ``filename`` without a suffix is
+    written as PNG.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    _check(path)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    target = FilePath(filename)
+    fig = Figure(figsize=(14.0, 5.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    left = fig.add_subplot(1, 2, 1)
+    right = fig.add_subplot(1, 2, 2, projection="3d" if path.mechanism.dim == 3 else None)
+    left.set_title("Indicators along the path", fontsize=10)
+    right.set_title("Node traces", fontsize=10)
+    plot_indicators(path, ax=left, unit=unit)
+    plot_traces(path, ax=right)
+    n_ev = len(path.singular_events())
+    fig.suptitle(f"{path.mechanism.name} — driven by {path.drive}; {n_ev} singular event(s); "
+                 f"stopped: {path.stop_reason}", fontsize=11)
+    try:
+        fig.savefig(target, dpi=110, format=None if target.suffix else "png")
+    except OSError as exc:
+        raise SymkinError(f"{target}: cannot write the figure ({exc.strerror or exc})") from exc
+    return target

@@ -1,0 +1,116 @@
+"""Paths of mechanisms: located singular configurations against closed-form results."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from symkin import Mechanism, SymkinError
+from symkin.model import catalogue
+from symkin.paths.trace import follow_branch, trace
+
+
+def fourbar(a_pos, b_pos, c_pos, d_pos, name="four-bar"):
+    return Mechanism.from_dict({"name": name, "dim": 2, "fixed": ["A", "D"],
+                                "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
+                                "nodes": {"A": a_pos, "B": b_pos, "C": c_pos, "D": d_pos},
+                                "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]}})
+
+
+def angle_diff(a, b):
+    return abs(math.remainder(a - b, 2 * math.pi))
+
+
+def test_crank_rocker_dead_centres_match_the_law_of_cosines():
+    m = catalogue.get("fourbar_appendix")
+    x = m.coordinates()
+    a, b, c = (math.dist(x[p], x[q]) for p, q in (("A", "B"), ("B", "C"), ("D", "C")))
+    d = math.dist(x["A"], x["D"])
+    expected = []
+    for r, turn in ((a + b, 0.0), (b - a, math.pi)):  # crank and coupler extended / folded
+        expected.append(math.acos((r * r + d * d - c * c) / (2 * r * d)) + turn)
+    path = trace(m, stop=360, unit="deg")
+    events = path.singular_events()
+    assert path.stop_reason == "reached" and len(events) == 2
+    assert all(e.kind == "DKP-output" and e.analysis.types == ("DKP-output", "LIM") for e in events)
+    found = sorted(e.absolute % (2 * math.pi) for e in events)
+    for f, e in zip(found, sorted(v % (2 * math.pi) for v in expected)):
+        assert angle_diff(f, e) < 1e-9
+    assert all(e.analysis.locked_links == ("rocker",) and e.analysis.dof == 1 for e in events)
+    # a full revolution with both dead centres located costs far fewer than 5000 residual evaluations
+    assert path.residual_evaluations < 5000
+
+
+def test_offset_slider_crank_dead_centres():
+    m = catalogue.get("slider_crank")
+    x = m.coordinates()
+    a, b, e = math.dist(x["A"], x["B"]), math.dist(x["B"], x["C"]), 0.25
+    ext = math.atan2(e, math.sqrt((a + b) ** 2 - e * e))
+    fold = math.atan2(e, math.sqrt((b - a) ** 2 - e * e)) + math.pi
+    path = trace(m, stop=2 * math.pi)
+    events = path.singular_events()
+    assert [ev.kind for ev in events] == ["DKP-output", "DKP-output"]
+    found = sorted(ev.absolute % (2 * math.pi) for ev in events)
+    assert angle_diff(found[0], ext) < 1e-9 and angle_diff(found[1], fold) < 1e-9
+    for ev in events:
+        assert ev.analysis.output_relations[0].as_dict() == {"slide:piston": 1.0}
+
+
+def test_double_rocker_turns_back_and_closes_the_loop():
+    """Crank 2, coupler 1, rocker 2.5, ground 3: the crank cannot turn fully (non-Grashof).
+    The input turns back where coupler and rocker align: |BD| = b + c (DKP-input)."""
+    a, b, c, d = 2.0, 1.0, 2.5, 3.0
+    th = 1.2
+    bpos = [a * math.cos(th), a * math.sin(th)]
+    bd = math.dist(bpos, (d, 0.0))
+    along = (b * b - c * c + bd * bd) / (2 * bd)
+    h = math.sqrt(b * b - along * along)
+    ex, ey = (d - bpos[0]) / bd, -bpos[1] / bd
+    cpos = [bpos[0] + along * ex - h * ey, bpos[1] + along * ey + h * ex]
+    m = fourbar([0.0, 0.0], bpos, cpos, [d, 0.0])
+    path = trace(m, stop=360, unit="deg")
+    assert path.stop_reason == "closed"
+    turning = [e for e in path.singular_events() if e.kind == "DKP-input"]
+    assert len(turning) >= 2
+    for bd_star in (b + c,):
+        crank = math.acos((a * a + d * d - bd_star ** 2) / (2 * a * d))
+        assert min(angle_diff(e.absolute, crank) for e in turning) < 1e-9 or \
+            min(angle_diff(e.absolute, -crank) for e in turning) < 1e-9
+    for e in turning:
+        assert e.analysis.types[0] == "DKP-input" and e.analysis.input_relations[0].as_dict() == {"rotation:crank": 1.0}
+
+
+def test_parallelogram_bifurcation_and_both_branches():
+    m = fourbar([0.0, 0.0], [0.0, 1.0], [2.0, 1.0], [2.0, 0.0], "parallelogram")
+    path = trace(m, stop=360, unit="deg")
+    ims = [e for e in path.singular_events() if e.kind == "IM"]
+    assert [round(math.degrees(e.input), 9) for e in ims] == [90.0, 270.0]
+    for e in ims:
+        assert e.analysis.dof == 2 and "IM" in e.analysis.types
+        assert e.bifurcation.status == "simple" and len(e.bifurcation.directions) == 2
+        assert abs(e.coordinates[1][1]) < 1e-12 and abs(e.coordinates[2][1]) < 1e-12  # flattened
+    turns = []
+    for branch in (0, 1):
+        sub = follow_branch(path, ims[0], branch, max_arclength=1.0)
+        coupler = [math.atan2(*(p.coordinates[2] - p.coordinates[1])[::-1]) for p in sub.points[1:]]
+        turns.append(max(abs(math.remainder(cp - coupler[0], math.pi)) for cp in coupler))
+    # one branch translates the coupler (parallelogram), the other turns it (anti-parallelogram)
+    assert min(turns) < 1e-9 and max(turns) > 0.1
+
+
+def test_five_bar_segment_with_one_input_held():
+    path = trace(catalogue.get("five_bar"), input="rotation:crank1", stop=40, unit="deg")
+    assert path.stop_reason == "reached"
+    held = [math.atan2(*(p.coordinates[3] - p.coordinates[1])[::-1]) for p in path.points]
+    assert max(abs(h - held[0]) for h in held) < 1e-10  # crank2 stays where it was
+
+
+def test_bad_input_and_unreachable_start():
+    m = catalogue.get("fourbar_appendix")
+    with pytest.raises(SymkinError, match="unknown input 'rotation:nope'"):
+        trace(m, input="rotation:nope", stop=1.0)
+    a, b, c, d = 2.0, 1.0, 2.5, 3.0  # double rocker: crank range is limited
+    m2 = fourbar([0.0, 0.0], [a * math.cos(1.2), a * math.sin(1.2)], [2.9, 1.9], [3.0, 0.0])
+    with pytest.raises(SymkinError):
+        trace(m2, start=170, stop=180, unit="deg")

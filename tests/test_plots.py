@@ -1,0 +1,283 @@
+"""Plots draw what the results say: curves at the path's points, events where they were located,
+arrows equal to the motion vectors; matplotlib is imported only when a plot is drawn."""
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import symkin  # noqa: E402
+from symkin.errors import SymkinError  # noqa: E402
+from symkin.paths.trace import trace  # noqa: E402
+from symkin.plots import draw_mechanism, plot_indicators, plot_traces, save_path_figures  # noqa: E402
+from symkin.plots.paths import abscissa  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+@pytest.fixture(scope="module")
+def fourbar_path():
+    return trace(symkin.catalogue.get("fourbar_appendix"), stop=360, unit="deg")
+
+
+@pytest.fixture(scope="module")
+def rrr_path():
+    return trace(symkin.catalogue.get("rrr_3"), stop=360, unit="deg")
+
+
+@pytest.fixture(scope="module")
+def rssr_path():
+    return trace(symkin.catalogue.get("rssr"), stop=360, unit="deg")
+
+
+def by_gid(artists, gid):
+    found = [a for a in artists if a.get_gid() == gid]
+    assert len(found) == 1, f"{gid}: {len(found)} artists"
+    return found[0]
+
+
+def gids(artists, prefix=""):
+    return sorted(a.get_gid() for a in artists if (a.get_gid() or "").startswith(prefix))
+
+
+def dead_centre_inputs(mech) -> list[float]:
+    """Crank angles (from the model's configuration, radians in (−π, π]) where crank and coupler
+    align, by the law of cosines in triangle A-C-D: |AC| = coupler ± crank."""
+    x = mech.coordinates()
+    a_, b_, c_, d_ = (np.array(x[n]) for n in "ABCD")
+    crank, coupler, rocker = np.linalg.norm(b_ - a_), np.linalg.norm(c_ - b_), np.linalg.norm(c_ - d_)
+    ground = d_ - a_
+    g, base = np.linalg.norm(ground), math.atan2(ground[1], ground[0])
+    theta0 = math.atan2(*(b_ - a_)[::-1])
+    out = []
+    for ac, flip in ((coupler + crank, 0.0), (coupler - crank, math.pi)):
+        phi = math.acos((ac * ac + g * g - rocker * rocker) / (2 * ac * g))
+        for sgn in (1, -1):
+            out.append(math.remainder(base + sgn * phi + flip - theta0, 2 * math.pi))
+    return out
+
+
+# ---------------------------------------------------------------------- import hygiene
+def test_import_symkin_does_not_import_matplotlib():
+    code = ("import sys, symkin, symkin.plots, symkin.plots.paths, symkin.plots.mechanism\n"
+            "print('matplotlib' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"
+
+
+# ---------------------------------------------------------------------- indicators
+def test_indicators_curves_follow_the_path_and_events_sit_at_the_dead_centres(fourbar_path):
+    path = fourbar_path
+    fig, ax = plt.subplots()
+    assert plot_indicators(path, ax=ax) is ax
+    assert gids(ax.lines, "indicator:") == ["indicator:DKP-input", "indicator:DKP-output", "indicator:im_indicator"]
+    inputs_deg = np.degrees([p.input for p in path.points])
+    for key in ("im_indicator", "DKP-input", "DKP-output"):
+        line = by_gid(ax.lines, f"indicator:{key}")
+        np.testing.assert_allclose(line.get_xdata(), inputs_deg, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(line.get_ydata(), [p.indicators[key] for p in path.points], rtol=0, atol=0)
+    # the four-bar's input is monotone: the axis is the input, in degrees
+    assert "rotation:crank" in ax.get_xlabel() and "deg" in ax.get_xlabel()
+    markers = by_gid(ax.lines, "event:DKP-output")
+    assert gids(ax.lines, "event:") == ["event:DKP-output"]
+    xs = np.asarray(markers.get_xdata(), float)
+    assert xs.size == 2 and np.all(np.asarray(markers.get_ydata()) == 0.0)
+    np.testing.assert_allclose(xs, [math.degrees(e.input) for e in path.events if e.kind == "DKP-output"],
+                               rtol=0, atol=1e-12)
+    # independent truth: the law of cosines (closed-form dead centres), to 1e-9 rad
+    closed = dead_centre_inputs(path.mechanism)
+    for xe in np.radians(xs):
+        assert min(abs(math.remainder(xe - c, 2 * math.pi)) for c in closed) < 1e-9
+    texts = [t.get_text() for t in ax.texts]
+    assert any(f"{xs[0]:.4g}°" in t and "DKP-output" in t for t in texts)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any("IM indicator" in lab for lab in labels) and any("DKP-output event" in lab for lab in labels)
+
+
+def test_indicators_in_radians_and_bifurcation_curve(fourbar_path):
+    ax = plot_indicators(fourbar_path, unit="rad", bifurcation=True)
+    assert "[rad]" in ax.get_xlabel()
+    np.testing.assert_allclose(by_gid(ax.lines, "event:DKP-output").get_xdata(),
+                               [e.input for e in fourbar_path.events if e.kind == "DKP-output"], atol=1e-15)
+    assert "indicator:bifurcation" in gids(ax.lines)
+    assert plot_indicators(fourbar_path, yscale="symlog").get_yscale() == "symlog"
+    with pytest.raises(SymkinError):
+        plot_indicators(fourbar_path, unit="grad")
+    with pytest.raises(SymkinError):
+        plot_indicators(fourbar_path, yscale="log")
+
+
+def test_indicators_use_arclength_when_the_input_turns_back(rrr_path):
+    path = rrr_path
+    kinds = [e.kind for e in path.singular_events()]
+    assert kinds.count("DKP-input") == 2  # the input turns back twice on this loop
+    values, mode, label = abscissa(path)
+    assert mode == "arclength" and "arclength" in label
+    ax = plot_indicators(path)
+    np.testing.assert_allclose(by_gid(ax.lines, "indicator:im_indicator").get_xdata(), [p.s for p in path.points])
+    for kind in ("DKP-input", "DKP-output"):
+        np.testing.assert_allclose(by_gid(ax.lines, f"event:{kind}").get_xdata(),
+                                   [e.s for e in path.events if e.kind == kind])
+    # forced: the input axis, folded at the turning points
+    forced, mode, _ = abscissa(path, x="input")
+    assert mode == "input" and np.any(np.diff(forced) > 0) and np.any(np.diff(forced) < 0)
+
+
+# ---------------------------------------------------------------------- traces
+def test_traces_are_the_node_paths_with_black_dots_at_events(fourbar_path):
+    path = fourbar_path
+    fig, ax = plt.subplots()
+    assert plot_traces(path, ax=ax) is ax
+    assert gids(ax.lines, "trace:") == ["trace:B", "trace:C"]
+    coords = np.array([p.coordinates for p in path.points])
+    for k, n in enumerate(path.node_names):
+        if n in ("B", "C"):
+            line = by_gid(ax.lines, f"trace:{n}")
+            np.testing.assert_allclose(line.get_xdata(), coords[:, k, 0], atol=0)
+            np.testing.assert_allclose(line.get_ydata(), coords[:, k, 1], atol=0)
+    dots = by_gid(ax.lines, "events")
+    assert dots.get_color() == "black" and len(dots.get_xdata()) == 2 * 2  # 2 events x 2 nodes
+    expected = np.vstack([e.coordinates[[1, 2]] for e in path.singular_events()])
+    np.testing.assert_allclose(np.column_stack([dots.get_xdata(), dots.get_ydata()]), expected, atol=0)
+    # at a dead centre, A, B, C are collinear: the dots are where crank and coupler align
+    for e in path.singular_events():
+        a_, b_, c_ = e.coordinates[0], e.coordinates[1], e.coordinates[2]
+        u, w = b_ - a_, c_ - b_
+        assert abs(u[0] * w[1] - u[1] * w[0]) < 1e-9
+    assert len(by_gid(ax.lines, "fixed").get_xdata()) == 2
+
+
+def test_traces_of_chosen_nodes_and_unknown_node(fourbar_path):
+    ax = plot_traces(fourbar_path, nodes=["C"], show_mechanism=False)
+    assert gids(ax.lines, "trace:") == ["trace:C"]
+    assert len(by_gid(ax.lines, "events").get_xdata()) == 2
+    assert not gids(ax.lines, "start-link")
+    with pytest.raises(SymkinError, match="unknown node"):
+        plot_traces(fourbar_path, nodes=["Z"])
+
+
+def test_traces_skip_the_held_legs_of_a_3dof_platform(rrr_path):
+    ax = plot_traces(rrr_path)
+    # crank1 drives, crank2 and crank3 are held: B2 and B3 do not move
+    assert gids(ax.lines, "trace:") == ["trace:B1", "trace:C1", "trace:C2", "trace:C3"]
+
+
+def test_spatial_traces_in_3d_or_projected(rssr_path):
+    ax = plot_traces(rssr_path)
+    assert ax.name == "3d"
+    x, y, z = by_gid(ax.lines, "trace:C").get_data_3d()
+    k = rssr_path.node_names.index("C")
+    coords = np.array([p.coordinates for p in rssr_path.points])
+    np.testing.assert_allclose(np.column_stack([x, y, z]), coords[:, k, :], atol=0)
+    fig, flat = plt.subplots()
+    plot_traces(rssr_path, ax=flat)
+    line = by_gid(flat.lines, "trace:C")
+    np.testing.assert_allclose(line.get_xdata(), coords[:, k, 0], atol=0)
+    np.testing.assert_allclose(line.get_ydata(), coords[:, k, 1], atol=0)
+    assert "projection" in flat.get_ylabel()
+
+
+# ---------------------------------------------------------------------- mechanism drawing
+def test_draw_flattened_fourbar_with_its_uncontrolled_motion():
+    mech = symkin.catalogue.get("fourbar_flat")
+    analysis = symkin.analyze(mech)
+    assert analysis.types == ("IM",) and analysis.dof == 2
+    (motion,) = analysis.uncontrolled_motions
+    fig, ax = plt.subplots()
+    assert draw_mechanism(mech, ax=ax, motion=motion, scale=0.5) is ax
+    assert gids(ax.lines, "link:") == ["link:coupler", "link:crank", "link:rocker"]
+    np.testing.assert_allclose(by_gid(ax.lines, "link:coupler").get_xdata(), [1.0, 3.0])
+    assert len(by_gid(ax.lines, "fixed").get_xdata()) == 2
+    assert len(by_gid(ax.lines, "nodes").get_xdata()) == 2
+    assert sorted(t.get_text() for t in ax.texts) == ["A", "B", "C", "D"]
+    q = by_gid(ax.collections, "motion:uncontrolled motion")
+    # with the crank locked only C moves, perpendicular to the flattened line
+    np.testing.assert_allclose(q.get_offsets(), [[3.0, 0.0]])
+    assert q.U[0] == 0.0 and abs(q.V[0]) == pytest.approx(0.5 * 1.0)
+
+
+def test_draw_motion_space_vectors_scaled_as_asked():
+    mech = symkin.catalogue.get("fourbar_flat")
+    ms = symkin.motion_space(mech)
+    ax = draw_mechanism(mech, motion=ms, scale=2.0)
+    assert gids(ax.collections, "motion:") == ["motion:v1", "motion:v2"]
+    for k in range(ms.dof):
+        q = by_gid(ax.collections, f"motion:v{k + 1}")
+        vel = ms.V[:, k].reshape(4, 2)
+        moving = np.linalg.norm(vel, axis=1) > 1e-9 * np.abs(vel).max()
+        np.testing.assert_allclose(q.get_offsets(), np.array([c for _, c in mech.nodes])[moving])
+        np.testing.assert_allclose(np.column_stack([q.U, q.V]), 2.0 * vel[moving], atol=1e-15)
+    # labelled pairs name the legend entries
+    ax = draw_mechanism(mech, motion=[("B up", {"B": [0.0, 1.0]}), ("C down", {"C": [0.0, -1.0]})], scale=1.0)
+    assert gids(ax.collections, "motion:") == ["motion:B up", "motion:C down"]
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["B up", "C down"]
+    np.testing.assert_allclose(by_gid(ax.collections, "motion:C down").get_offsets(), [[3.0, 0.0]])
+    # a single column by index
+    ax = draw_mechanism(mech, motion=1)
+    assert gids(ax.collections, "motion:") == ["motion:v2"]
+    # default scale: the longest arrow is 30 % of the drawing's extent (4 model units here)
+    q = by_gid(ax.collections, "motion:v2")
+    assert float(np.hypot(q.U, q.V).max()) == pytest.approx(0.3 * 4.0)
+
+
+def test_draw_bodies_sliders_and_dict_motion():
+    rrr = symkin.catalogue.get("rrr_3")
+    ax = draw_mechanism(rrr, motion={"C1": [1.0, 0.0], "C2": [0.0, 1.0]})
+    platform = by_gid(ax.patches, "link:platform")
+    xyz = rrr.coordinates()
+    verts = platform.get_xy()[:3]
+    assert sorted(map(tuple, np.round(verts, 12))) == sorted(tuple(np.round(xyz[n], 12)) for n in ("C1", "C2", "C3"))
+    q = by_gid(ax.collections, "motion:motion")
+    np.testing.assert_allclose(q.get_offsets(), [xyz["C1"], xyz["C2"]])
+    slider = symkin.catalogue.get("slider_crank")
+    ax = draw_mechanism(slider)
+    line = by_gid(ax.lines, "slider:piston")
+    np.testing.assert_allclose(line.get_ydata(), [0.25, 0.25])
+    np.testing.assert_allclose(by_gid(ax.lines, "sliders").get_xdata(), [3.5])
+
+
+def test_draw_spatial_platform_at_increased_mobility():
+    from tests.conftest import EXAMPLES
+
+    mech = symkin.read_model(EXAMPLES / "fig13_3rsr_c.toml")
+    ms = symkin.motion_space(mech)
+    assert ms.dof == 4  # the paper's Fig. 13: four motion-space vectors
+    ax = draw_mechanism(mech, motion=ms)
+    assert ax.name == "3d"
+    assert gids(ax.collections, "motion:") == ["motion:v1", "motion:v2", "motion:v3", "motion:v4"]
+    assert "link:platform" in gids(ax.collections, "link:")
+
+
+def test_draw_rejects_bad_motions():
+    mech = symkin.catalogue.get("fourbar_appendix")
+    with pytest.raises(SymkinError, match="unknown node"):
+        draw_mechanism(mech, motion={"Q": [0.0, 1.0]})
+    with pytest.raises(SymkinError, match="motion space has 1"):
+        draw_mechanism(mech, motion=3)
+    with pytest.raises(SymkinError, match="motion must be"):
+        draw_mechanism(mech, motion="up")
+
+
+# ---------------------------------------------------------------------- the PNG of `symkin path --plot`
+def test_save_path_figures_writes_a_png_without_pyplot(fourbar_path, rssr_path, tmp_path):
+    before = plt.get_fignums()
+    for path, name in ((fourbar_path, "fourbar.png"), (rssr_path, "rssr")):
+        written = save_path_figures(path, tmp_path / name)
+        data = written.read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
+    assert written.name == "rssr"
+    assert plt.get_fignums() == before
+    with pytest.raises(SymkinError, match="cannot write"):
+        save_path_figures(fourbar_path, tmp_path / "missing" / "x.png")
