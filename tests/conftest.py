@@ -25,3 +25,17 @@ def fourbar() -> symkin.Mechanism:
 @pytest.fixture
 def fourbar_data() -> dict:
     return catalogue.data("fourbar_appendix")
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _private_cache(tmp_path_factory):
+    """Compiled artefacts of the test session go to a temporary cache, not the user's."""
+    import os
+
+    old = os.environ.get("SYMKIN_CACHE")
+    os.environ["SYMKIN_CACHE"] = str(tmp_path_factory.mktemp("symkin-cache"))
+    yield
+    if old is None:
+        os.environ.pop("SYMKIN_CACHE", None)
+    else:
+        os.environ["SYMKIN_CACHE"] = old

@@ -160,12 +160,15 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
     """Yield points along the curve from ``y0`` in the direction of ``t0``.
 
     ``y0`` must be on the curve (see :func:`newton`).  Iteration ends when ``stop(point)``
-    is true, after ``settings.max_steps``, or by the caller; raises :class:`SteppingError`
+    is true, after ``settings.max_steps``, or by the caller; a problem with a
+    ``fast_corrector`` (:mod:`symkin.paths.generated`) has its Newton steps and tangents
+    computed by generated code.  Raises :class:`SteppingError`
     when the step falls below ``settings.min_step``.  ``guard(previous, y)`` may reject a
     corrected point (the step is then halved), e.g. to bound the input change per step.
     """
     t = tangent(problem, y0, t0)
     point = CurvePoint(np.array(y0, float), t, 0.0)
+    fast = getattr(problem, "fast_corrector", None)
     yield point
     h = settings.step
     for _ in range(settings.max_steps):
@@ -180,8 +183,13 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
                 return np.array([tt @ (y - p)]), tt[None, :]
 
             try:
-                y, iters, _ = newton(problem, predictor, extra=hyperplane, tol=settings.tol,
-                                     max_iterations=settings.max_corrector_iterations)
+                if fast is not None:
+                    y, iters, t_new = fast.correct(predictor, point.t, settings.tol,
+                                                   settings.max_corrector_iterations)
+                else:
+                    y, iters, _ = newton(problem, predictor, extra=hyperplane, tol=settings.tol,
+                                         max_iterations=settings.max_corrector_iterations)
+                    t_new = None
             except NotConvergedError:
                 h *= 0.5
                 continue
@@ -191,7 +199,10 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
             if guard is not None and not guard(point, y):
                 h *= 0.5
                 continue
-            t_new = tangent(problem, y, point.t)
+            if t_new is None:
+                t_new = tangent(problem, y, point.t)
+            elif float(t_new @ point.t) < 0:
+                t_new = -t_new
             if math.acos(max(-1.0, min(1.0, float(t_new @ point.t)))) > settings.max_turn:
                 h *= 0.5
                 continue

@@ -37,8 +37,10 @@ class MechanismCurve:
     drive: LinearInput
     held: tuple[LinearInput, ...] = ()
     held_values: tuple[float, ...] = ()
+    generated: str | bool = "compiled"  # "compiled" (C, cached), "vm" (in-process CasADi) or False
 
     def __post_init__(self):
+        self._fast = False
         if len(self.held) != len(self.held_values):
             raise ValueError("one held value per held input")
         self.model = build(self.mech)
@@ -51,6 +53,9 @@ class MechanismCurve:
         phi = ca.substitute(m.closure, m.q, self.scale * y)
         if m.p.numel():
             phi = ca.substitute(phi, m.p, ca.DM(m.p0))
+        # rows between fixed nodes only (a ground link's bars) do not involve y: drop them
+        live = [k for k in range(phi.numel()) if ca.depends_on(phi[k], y)]
+        phi = phi[live] if live else ca.SX(0, 1)
         parts = [phi / self.scale]
         for c, v in zip(self.held, self.held_values):
             expr = c.expression(self.mech, x, self.x0)
@@ -118,6 +123,17 @@ class MechanismCurve:
 
     def mechanism_at(self, y: np.ndarray) -> Mechanism:
         return self.mech.with_coordinates(self.x_of(y))
+
+    @property
+    def fast_corrector(self):
+        """The generated corrector (:mod:`symkin.paths.generated`), or None (see ``generated``)."""
+        if not self.generated:
+            return None
+        if self._fast is False:
+            from symkin.paths.generated import generated_corrector
+
+            self._fast = generated_corrector(self, compile=self.generated == "compiled")
+        return self._fast
 
 
 def make_curve(mech: Mechanism, drive: str | dict[str, float] | None = None) -> MechanismCurve:

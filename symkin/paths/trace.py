@@ -129,9 +129,6 @@ class Path:
 class _Counting:
     """Wraps a curve problem and counts residual evaluations (for the benchmark)."""
 
-    def __init__(self, problem):
-        self.problem, self.count = problem, 0
-
     def residual(self, y):
         self.count += 1
         return self.problem.residual(y)
@@ -142,6 +139,21 @@ class _Counting:
     def residual_and_jacobian(self, y):
         self.count += 1
         return self.problem.residual_and_jacobian(y)
+
+    @property
+    def fast_corrector(self):
+        return self.problem.fast_corrector
+
+    @property
+    def total(self) -> int:
+        """Residual evaluations, including the generated corrector's Newton steps."""
+        fast = self.problem.fast_corrector
+        return self.count + (fast.steps - self.fast_start if fast is not None else 0)
+
+    def __init__(self, problem):
+        self.problem, self.count = problem, 0
+        fast = problem.fast_corrector
+        self.fast_start = fast.steps if fast is not None else 0
 
     def second_derivative(self, y, v):
         return self.problem.second_derivative(y, v)
@@ -427,7 +439,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
         if record:
             events.append(PathEvent("end", value, ev.s, curve.x_of(ev.y), None, ev.value, ev.evaluations,
                                     curve.drive.absolute(mech, curve.x_of(ev.y)), None, ev.y, ev.t, ("end",)))
-    return Path(mech, curve.drive.label, kind, tuple(points), tuple(events), reason, message, counted.count,
+    return Path(mech, curve.drive.label, kind, tuple(points), tuple(events), reason, message, counted.total,
                 mech.node_names, curve)
 
 

@@ -119,3 +119,25 @@ def test_newton_reports_how_close_it_got():
     with pytest.raises(NotConvergedError) as info:
         newton(NoRoot(), np.array([0.3, 0.2]), max_iterations=15)
     assert info.value.data["residual"] >= 1.0
+
+
+def test_generated_corrector_matches_the_least_squares_corrector():
+    """Compiled Newton steps and tangents give the same curve points as the NumPy corrector."""
+    from symkin.model import catalogue
+    from symkin.paths.system import make_curve
+
+    curve = make_curve(catalogue.get("rrr_3"), "rotation:crank1")
+    fast = curve.fast_corrector
+    assert fast is not None and fast.compiled
+    y0 = curve.y0()
+    t0 = np.linalg.svd(curve.jacobian(y0))[2][-1]
+    pred = y0 + 0.05 * t0
+    y_fast, _, t_fast = fast.correct(pred, t0, 1e-12, 10)
+
+    def hyperplane(y):
+        return np.array([t0 @ (y - pred)]), t0[None, :]
+
+    y_ref, _, _ = newton(curve, pred, extra=hyperplane)
+    np.testing.assert_allclose(y_fast, y_ref, atol=1e-13)
+    from symkin.paths.continuation import tangent
+    np.testing.assert_allclose(t_fast, tangent(curve, y_fast, t0), atol=1e-12)
