@@ -183,10 +183,14 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
                 return np.array([tt @ (y - p)]), tt[None, :]
 
             try:
+                y = None
                 if fast is not None:
-                    y, iters, t_new = fast.correct(predictor, point.t, settings.tol,
-                                                   settings.max_corrector_iterations)
-                else:
+                    try:
+                        y, iters, t_new = fast.correct(predictor, point.t, settings.tol,
+                                                       settings.max_corrector_iterations)
+                    except NotConvergedError:
+                        y = None  # try the least-squares corrector before shrinking the step
+                if y is None:
                     y, iters, _ = newton(problem, predictor, extra=hyperplane, tol=settings.tol,
                                          max_iterations=settings.max_corrector_iterations)
                     t_new = None

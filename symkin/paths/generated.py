@@ -13,6 +13,12 @@ CasADi version) and called through CasADi's buffer interface, which removes the 
 overhead of a plain ``Function`` call.  Without a C compiler the in-process Function is
 used (same numbers, slower).  Over-constrained systems (non-square ``A``) keep the
 least-squares corrector of :mod:`symkin.paths.continuation`.
+
+Redundant equations (over-constrained mechanisms, bodies with more nodes than a frame)
+are handled by keeping ``n − 1`` independent rows chosen at the start (QR with column
+pivoting); the other rows are consistent with them on the closure manifold.  Should the
+kept rows lose rank later on the path, the continuation falls back to the least-squares
+corrector for that step.
 """
 from __future__ import annotations
 
@@ -58,30 +64,59 @@ class GeneratedCorrector:
         """Newton from ``y_pred`` on the hyperplane through it normal to ``t``.
 
         Returns ``(y, iterations, tangent at y)``; raises :class:`NotConvergedError`.
+        The loop touches only the buffers: ``t`` and ``y_pred`` are set once, ``y`` is
+        overwritten by each step's result.
         """
-        y = np.array(y_pred, float)
+        self._t[:] = t
+        self._p[:] = y_pred
+        self._y[:] = y_pred
         step = math.inf
+        sqrt_tol, floor = math.sqrt(tol), 1e-3 * tol
+        trig, res_buf, step_buf = self._trig, self._res, self._step
         for k in range(max_iterations + 1):
-            y_next, res, step_next, t_new = self.step(y, t, y_pred)
-            if (res <= tol and step <= math.sqrt(tol)) or res <= 1e-3 * tol:
-                if not np.all(np.isfinite(t_new)):
+            trig()
+            res = res_buf[0]
+            if (res <= tol and step <= sqrt_tol) or res <= floor:
+                self.steps += k + 1
+                if not np.all(np.isfinite(self._t_next)):
                     break
-                return y, k, t_new.copy()
-            if not np.all(np.isfinite(y_next)) or res > 1e6:
+                return self._y.copy(), k, self._t_next.copy()
+            if not res < 1e6:  # also catches NaN
                 break
-            y, step = y_next.copy(), step_next
-        raise NotConvergedError("generated corrector did not converge", y=y)
+            step = step_buf[0]
+            self._y[:] = self._y_next
+        self.steps += max_iterations + 1
+        raise NotConvergedError("generated corrector did not converge", y=self._y.copy())
 
 
 _CACHE: dict[str, GeneratedCorrector | None] = {}
 
 
+def _rows_to_keep(curve) -> list[int] | None:
+    """All rows of H for a square system; for redundant rows, n − 1 independent ones at the start."""
+    j0 = curve.jacobian(curve.y0())
+    m, n = j0.shape
+    if m + 1 == n:
+        return list(range(m))
+    if m + 1 < n:
+        return None
+    from scipy.linalg import qr
+
+    _, r, piv = qr(j0.T, pivoting=True, mode="economic")
+    diag = np.abs(np.diag(r))
+    if diag.size < n - 1 or diag[n - 2] <= 1e-8 * diag[0]:
+        return None  # fewer than n − 1 independent rows at the start: no square system
+    return sorted(int(k) for k in piv[: n - 1])
+
+
 def _build_function(curve) -> ca.Function | None:
     n = curve.y0().size
+    keep = _rows_to_keep(curve)
+    if keep is None:
+        return None
     y, t, p = ca.SX.sym("y", n), ca.SX.sym("t", n), ca.SX.sym("y_pred", n)
     h, j = curve._hj(y)
-    if j.shape[0] + 1 != n:
-        return None
+    h, j = h[keep], j[keep, :]
     a = ca.vertcat(j, t.T)
     r = ca.vertcat(h, ca.dot(t, y - p))
     e = ca.DM.zeros(n, 1)
