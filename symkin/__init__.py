@@ -14,6 +14,7 @@ from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import ModelError, ModelFileError, NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism, Parameter, Slider
 from symkin.model.model_file import read_model, write_model
+from symkin.numeric.evaluators import Evaluators, evaluators
 from symkin.numeric.geometric_matrix import geometric_matrix
 from symkin.report import render_text
 
@@ -29,8 +30,8 @@ from symkin.tolerances import Tolerances
 
 __version__ = "0.1.0"
 
-__all__ = ["Analysis", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
+__all__ = ["Analysis", "Evaluators", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "trace", "catalogue", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "analyze", "trace", "catalogue", "evaluators", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
            "write_model",
            "__version__"]

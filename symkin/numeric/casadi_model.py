@@ -20,7 +20,11 @@ closure manifold: whether a body is degenerate (its frame of nodes and the dimen
 its hull) and, for spatial bodies, whether they are rods.  The normals of a degenerate
 body are smooth functions of its frame, with the core's sign at the model's
 configuration; elsewhere the core's SVD may flip a sign (or, for a collinear spatial
-body, rotate the pair of normals), which changes no product ``a aᵀ`` and so no G.
+body, rotate the pair of normals), which changes no product ``a aᵀ`` and so no G.  The
+core also picks the frame again at every configuration; where two nodes of a symmetric
+body tie in its greedy search (the 3-RSR platform), rounding decides and its G can then
+differ from ours by a change of the body's out-of-hull rows, with the same row space:
+the motion space and every decision agree, ``λ_{F+1}`` may not exactly.
 
 The closure residual ``Φ(q, p)`` has one row per row of ``J``, in the same order, with
 ``∂Φ/∂q = J_f`` row for row at every configuration that closes (``Φ = 0``); for bars

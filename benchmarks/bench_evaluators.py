@@ -1,0 +1,192 @@
+"""Benchmark of the evaluators (issue 3): configurations per second, ratios to a hand-written baseline.
+
+Run on demand (not part of the test suite)::
+
+    /work/venv/bin/python benchmarks/bench_evaluators.py [--batch 100000] [--loop 5000] [--json out.json]
+
+For the 3-RRR and a spatial example (the RSSR) it measures, in one run and on valid
+configurations (perturbed and projected onto the closure manifold):
+
+(a) the baseline a researcher writes by hand: ``sympy.lambdify`` of the reduced G and
+    ``numpy.linalg.eigh`` in a Python loop, one configuration at a time;
+(b) symkin's numeric core per configuration: ``symkin.analyze`` (full classification) and
+    ``symkin.motion_space`` (motion space only);
+(c) CasADi in-process (SX virtual machine): the ``indicators`` Function called plainly and
+    through CasADi's buffer interface;
+(d) the generated C, loaded with ``casadi.external``: buffer calls (indicator values only)
+    and ``ev.indicators_at`` (values and the core's IM / DKP decisions);
+(e) ``ev.batch`` over ``--batch`` configurations (``Function.map`` + decisions), compiled and
+    in-process, and the orthonormal motion-space bases ``ev.map("motion", ...)``;
+
+and the time to generate, compile and load the C of each model (a fresh cache).  Every
+figure is measured in this run; ratios are to (a).  One process, one thread: NumPy's
+small-matrix LAPACK calls do not use threads.
+"""
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import os
+import platform
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import casadi as ca  # noqa: E402
+import sympy as sp  # noqa: E402
+
+import symkin  # noqa: E402
+from symkin.numeric.batch import fast_caller  # noqa: E402
+from symkin.numeric.evaluators import evaluators  # noqa: E402
+
+
+# ---------------------------------------------------------------------- the baseline (a)
+def lambdified_g(mech):
+    """The reduced G of a bar/body model written with sympy and lambdified, as a user would."""
+    if mech.sliders:
+        raise ValueError("the hand-written baseline covers bars and bodies only")
+    free = [n for n in mech.node_names if n not in set(mech.fixed)]
+    coords = mech.coordinates()
+    syms = {n: sp.symbols(" ".join(f"{a}_{n}" for a in "xyz"[: mech.dim])) for n in free}
+    pos = {n: (sp.Matrix(syms[n]) if n in syms else sp.Matrix(coords[n])) for n in mech.node_names}
+    order = [s for n in free for s in syms[n]]
+    g = sp.zeros(len(order), len(order))
+    for _, ns in mech.links:
+        for a in range(len(ns)):
+            for b in range(a + 1, len(ns)):
+                d = pos[ns[b]] - pos[ns[a]]
+                u = d / sp.sqrt(sum(c ** 2 for c in d))
+                row = sp.zeros(1, len(order))
+                for sign, n in ((1, ns[a]), (-1, ns[b])):
+                    if n in syms:
+                        for c, s in enumerate(syms[n]):
+                            row[0, order.index(s)] += sign * u[c]
+                g += row.T * row
+    return sp.lambdify(order, g, "numpy")
+
+
+def baseline(mech, q, f_g, n_loop):
+    f = mech.mobility_value
+    out = np.empty(n_loop)
+    start = time.perf_counter()
+    for k in range(n_loop):
+        w, v = np.linalg.eigh(f_g(*q[k]))
+        out[k] = w[f]  # IM indicator; v[:, :f] the motion space
+    return n_loop / (time.perf_counter() - start), out
+
+
+# ---------------------------------------------------------------------- helpers
+def rate(fn, n):
+    gc.collect()
+    gc.freeze()  # the sympy objects of the baseline should not slow the collector in later timings
+    start = time.perf_counter()
+    fn()
+    return n / (time.perf_counter() - start)
+
+
+def configurations(ev, n, seed=0):
+    rng = np.random.default_rng(seed)
+    q = ev.q0 + 0.05 * ev.mech.length_scale * rng.standard_normal((n, ev.nf))
+    return ev.project(q)
+
+
+def bench(name: str, n_batch: int, n_loop: int) -> dict:
+    mech = symkin.catalogue.get(name)
+    results: dict = {"model": name, "nf": None, "rates": {}, "notes": {}}
+    t0 = time.perf_counter()
+    ev = evaluators(mech)
+    results["notes"]["build evaluators [s]"] = time.perf_counter() - t0
+    results["nf"] = ev.nf
+    q = configurations(ev, max(n_batch, n_loop))
+    ql = q[:n_loop]
+    r = results["rates"]
+
+    f_g = lambdified_g(mech)
+    r["(a) sympy.lambdify + numpy eigh, Python loop"], im_base = baseline(mech, ql, f_g, n_loop)
+
+    n_core = max(200, n_loop // 10)
+    r["(b) symkin.analyze per configuration"] = rate(
+        lambda: [symkin.analyze(ev.mechanism_at(x)) for x in ql[:n_core]], n_core)
+    r["(b) symkin.motion_space per configuration"] = rate(
+        lambda: [symkin.motion_space(ev.mechanism_at(x)) for x in ql[:n_core]], n_core)
+
+    f_sx = ev.functions["indicators"]
+    r["(c) CasADi in-process, plain call"] = rate(lambda: [f_sx(x) for x in ql], n_loop)
+    call = fast_caller(ev)
+    r["(c) CasADi in-process, buffer call"] = rate(lambda: [call(x) for x in ql], n_loop)
+    n_ip = min(n_batch, 20000)
+    ev.batch(q[:10])
+    r[f"(e) batch in-process ({n_ip} configurations)"] = rate(lambda: ev.batch(q[:n_ip]), n_ip)
+    ref = ev.map("indicators", q[:1000])
+
+    with tempfile.TemporaryDirectory() as cache:
+        t0 = time.perf_counter()
+        ev.compile(cache_dir=cache)
+        results["notes"]["generate + compile + load C [s]"] = time.perf_counter() - t0
+        if not ev.compiled:
+            results["notes"]["compiled"] = False
+            return results
+        new = ev.map("indicators", q[:1000])
+        results["notes"]["generated == in-process (bit for bit)"] = all(
+            np.array_equal(ref[k], new[k]) for k in ref)
+        call = fast_caller(ev)
+        r["(d) generated C, buffer call (values)"] = rate(lambda: [call(x) for x in ql], n_loop)
+        r["(d) generated C, indicators_at (values + decisions)"] = rate(
+            lambda: [ev.indicators_at(x) for x in ql], n_loop)
+        ev.batch(q[:10])
+        best = 0.0
+        for _ in range(3):
+            best = max(best, rate(lambda: ev.batch(q[:n_batch]), n_batch))
+        r[f"(e) batch, generated C ({n_batch} configurations)"] = best
+        r[f"(e) motion-space bases V, generated C ({n_batch} configurations)"] = rate(
+            lambda: ev.map("motion", q[:n_batch]), n_batch)
+        res = ev.batch(q[:n_batch])
+        results["notes"]["exact-path fraction in the batch"] = float(res.exact.mean())
+        im = ev.batch(ql).im_indicator
+        results["notes"]["max rel. difference of im vs baseline eigh"] = float(
+            np.max(np.abs(im - im_base) / np.abs(im_base)))
+    return results
+
+
+def report(results: dict) -> str:
+    lines = [f"== {results['model']} (nf = {results['nf']})"]
+    rates = results["rates"]
+    base = next(v for k, v in rates.items() if k.startswith("(a)"))
+    width = max(len(k) for k in rates)
+    lines.append(f"{'method'.ljust(width)}  {'configs/s':>12}  {'ratio to (a)':>12}")
+    for k, v in rates.items():
+        lines.append(f"{k.ljust(width)}  {v:12,.0f}  {v / base:12.1f}")
+    for k, v in results["notes"].items():
+        lines.append(f"  {k}: {v:.3g}" if isinstance(v, float) else f"  {k}: {v}")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--batch", type=int, default=100_000, help="configurations in the batched runs")
+    p.add_argument("--loop", type=int, default=5_000, help="configurations in the per-call loops")
+    p.add_argument("--models", nargs="+", default=["rrr_3", "rssr"])
+    p.add_argument("--json", default=None, help="also write the figures to this file")
+    args = p.parse_args(argv)
+    print(f"symkin {symkin.__version__}, casadi {ca.__version__}, numpy {np.__version__}, "
+          f"sympy {sp.__version__}, Python {platform.python_version()}, {platform.processor() or platform.machine()}")
+    everything = []
+    for name in args.models:
+        res = bench(name, args.batch, args.loop)
+        everything.append(res)
+        print(report(res))
+        sys.stdout.flush()
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(everything, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

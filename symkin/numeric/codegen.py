@@ -1,0 +1,306 @@
+"""C code generation for the evaluators: generate, compile, load, cache by model hash.
+
+One entry point, :func:`compile_evaluators` (``ev.compile()``), and it is only a
+speed-up: the generated functions give the numbers of the in-process CasADi Functions
+(bit for bit with the default flags; the tests check it).
+
+* C sources come from CasADi's ``CodeGenerator``; a header documents every function's
+  arguments and results, their order, shapes and storage (:func:`header_notes`).
+* The library is built with the system C compiler (``compiler`` argument, else the
+  ``SYMKIN_CC`` or ``CC`` environment variable, else ``cc``) and loaded with
+  ``casadi.external``.
+* Artefacts are cached on disk under ``SYMKIN_CACHE`` (default ``~/.cache/symkin``), in a
+  file named after the model's content hash and the CasADi version, so a model is
+  compiled once per machine; loaded libraries are also kept for the process.
+* With no working compiler, a :class:`CodegenWarning` says so and the in-process
+  Functions stay in use.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import warnings
+from pathlib import Path
+
+import casadi as ca
+
+from symkin.errors import SymkinError
+
+__all__ = ["CodegenWarning", "CompilerError", "DEFAULT_FLAGS", "cache_directory", "artefact_stem",
+           "generate_sources", "build_library", "load_library", "compile_evaluators", "header_notes",
+           "find_compiler", "GENERATED_FUNCTIONS", "manifest"]
+
+#: flags for the system compiler; ``-ffp-contract=off`` keeps the arithmetic of the
+#: in-process CasADi virtual machine (no fused multiply-add), so results are identical;
+#: ``-fno-math-errno`` lets ``sqrt`` compile to one instruction (same value)
+DEFAULT_FLAGS = ("-O3", "-fno-math-errno", "-fPIC", "-shared", "-ffp-contract=off")
+#: modules whose source decides what is generated: their text is part of the cache key,
+#: so a changed symkin never loads a stale library
+_SOURCES = ("casadi_model", "evaluators", "codegen", "geometric_matrix", "linalg")
+#: Functions written to the C file, in this order
+GENERATED_FUNCTIONS = ("G", "J", "closure", "closure_jacobian", "parameters", "indicators",
+                       "indicators_batch", "motion")
+_LOADED: dict[str, dict[str, ca.Function]] = {}
+
+_DESCRIPTIONS = {
+    "q": "free nodal coordinates (free nodes in node order, x, y[, z] each)",
+    "p": "closure parameters (lengths, slider offsets, affine coordinates; model values by default)",
+    "G": "reduced geometric matrix over the free coordinates (eq. 8)",
+    "G_full": "geometric matrix over all coordinates (eq. 3, A5)",
+    "J": "constraint rows over all coordinates (G = J^T J)",
+    "J_free": "constraint rows over the free coordinates",
+    "phi": "closure residual, one entry per row of J",
+    "dphi_dq": "Jacobian of phi with respect to q (= J_free where phi = 0)",
+    "inputs": "input parameter rows over all coordinates (physical units)",
+    "outputs": "output parameter rows over all coordinates (physical units)",
+    "platform": "platform twist rows over all coordinates (physical units)",
+    "im": "IM indicator lambda_{F+1} of the reduced G",
+    "im_certified": "1 when Sturm counts certify im to 1e-12 relative, else 0",
+    "trace": "trace of J_e J_e^T (squared Frobenius norm of J_free)",
+    "dkp_input": "det([J_S; unit input rows]) / sqrt(det(J_S J_S^T)) when k = F (signed), "
+                 "else the product of the singular values of the restricted input rows",
+    "dkp_input_bound": "lower bound on the smallest squared singular value of the restricted input rows",
+    "dkp_output": "det([J_S; unit output rows]) / sqrt(det(J_S J_S^T)) when k = F (signed), "
+                  "else the product of the singular values of the restricted output rows",
+    "dkp_output_bound": "lower bound on the smallest squared singular value of the restricted output rows",
+    "V": "orthonormal basis of the motion space (columns), valid when L = F",
+}
+
+
+class CodegenWarning(UserWarning):
+    """Code generation could not compile; the in-process CasADi Functions are used."""
+
+
+class CompilerError(SymkinError):
+    """The C compiler is missing or failed; ``stderr`` holds its message."""
+
+    def __init__(self, message: str, stderr: str = ""):
+        self.stderr = stderr
+        super().__init__(message)
+
+
+# ---------------------------------------------------------------------- names and paths
+def cache_directory(cache_dir=None) -> Path:
+    """The artefact cache: ``cache_dir``, else ``$SYMKIN_CACHE``, else ``~/.cache/symkin``."""
+    if cache_dir is not None:
+        return Path(cache_dir)
+    env = os.environ.get("SYMKIN_CACHE")
+    return Path(env) if env else Path.home() / ".cache" / "symkin"
+
+
+def find_compiler(compiler: str | None = None) -> str:
+    """The compiler command: ``compiler``, else ``$SYMKIN_CC``, ``$CC``, ``cc``."""
+    return compiler or os.environ.get("SYMKIN_CC") or os.environ.get("CC") or "cc"
+
+
+def _generator_fingerprint() -> str:
+    here = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for name in _SOURCES:
+        digest.update((here / f"{name}.py").read_bytes())
+    return digest.hexdigest()
+
+
+def artefact_stem(mech, compiler: str, flags) -> str:
+    """File stem of a model's artefacts: content hash, CasADi version, build options.
+
+    The last part also hashes the source of the modules that decide what is generated.
+    """
+    options = hashlib.sha256(f"{_generator_fingerprint()}|{compiler}|{' '.join(flags)}".encode())
+    return (f"symkin_{mech.content_hash()[:20]}_casadi{ca.__version__.replace('.', '_')}_"
+            f"{options.hexdigest()[:8]}")
+
+
+# ---------------------------------------------------------------------- documentation
+def _shape(f: ca.Function, i: int, out: bool) -> str:
+    r, c = f.size_out(i) if out else f.size_in(i)
+    return f"{r}x{c}"
+
+
+def manifest(ev) -> dict:
+    """What the generated code computes: argument names, order, shapes and labels (JSON-ready)."""
+    funcs = {}
+    for name in GENERATED_FUNCTIONS:
+        if name not in ev._symbolic:
+            continue
+        f = ev._symbolic[name]
+        each = f" (one column per configuration)" if name.endswith("_batch") else ""
+        funcs[name] = {
+            "inputs": [{"name": f.name_in(i), "shape": list(f.size_in(i)),
+                        "meaning": _DESCRIPTIONS.get(f.name_in(i), "") + each} for i in range(f.n_in())],
+            "outputs": [{"name": f.name_out(i), "shape": list(f.size_out(i)),
+                         "meaning": _DESCRIPTIONS.get(f.name_out(i), "") + each} for i in range(f.n_out())],
+        }
+    return {
+        "mechanism": ev.mech.name, "content_hash": ev.mech.content_hash(), "casadi": ca.__version__,
+        "dim": ev.mech.dim, "mobility": ev.mobility, "storage": "dense, column-major",
+        "q": list(ev.q_labels), "p": list(ev.p_labels), "rows": list(ev.row_owners),
+        "basis_rows": list(ev.basis_rows),
+        "input_labels": list(ev.input_labels), "output_labels": list(ev.output_labels),
+        "platform_labels": list(ev.platform_labels), "functions": funcs,
+    }
+
+
+def header_notes(ev) -> str:
+    """A C comment documenting every generated function's arguments, results and their order."""
+    man = manifest(ev)
+    lines = [
+        f"symkin generated evaluators for: {man['mechanism']}",
+        f"model content hash {man['content_hash']}, CasADi {man['casadi']}",
+        "Geometric-matrix method of Altuzarra et al., IEEE T-RO 2004 (eqs. 3-4, 8-10, 12, 16).",
+        "",
+        "Calling convention (CasADi): int NAME(const casadi_real** arg, casadi_real** res,",
+        "casadi_int* iw, casadi_real* w, int mem); arg[i] / res[i] point to dense column-major",
+        "arrays of the shapes below; work sizes from NAME_work() or NAME_SZ_* macros.",
+        "",
+        f"q ({len(man['q'])} entries, in this order):",
+    ]
+    lines += [f"  q[{i}] = {lab}" for i, lab in enumerate(man["q"])]
+    lines.append(f"p ({len(man['p'])} entries, in this order):")
+    lines += [f"  p[{i}] = {lab}" for i, lab in enumerate(man["p"])]
+    lines.append(f"rows of J and phi ({len(man['rows'])}):")
+    lines += [f"  row {i}: {lab}" for i, lab in enumerate(man["rows"])]
+    if man["basis_rows"]:
+        lines.append("independent rows J_S (motion space V, DKP values): "
+                     + ", ".join(str(i) for i in man["basis_rows"]))
+    for key in ("input_labels", "output_labels", "platform_labels"):
+        if man[key]:
+            lines.append(f"rows of '{key.split('_')[0]}s': {', '.join(man[key])}".replace("platforms", "platform"))
+    lines.append("")
+    for name, spec in man["functions"].items():
+        ins = ", ".join(f"{a['name']} [{a['shape'][0]}x{a['shape'][1]}]" for a in spec["inputs"])
+        outs = ", ".join(f"{a['name']} [{a['shape'][0]}x{a['shape'][1]}]" for a in spec["outputs"])
+        lines.append(f"{name}({ins}) -> ({outs})")
+        for kind in ("inputs", "outputs"):
+            for k, a in enumerate(spec[kind]):
+                where = "arg" if kind == "inputs" else "res"
+                lines.append(f"    {where}[{k}] {a['name']}: {a['meaning']}")
+    body = "\n".join(" * " + ln if ln else " *" for ln in lines)
+    return "/*\n" + body.replace("*/", "* /") + "\n */\n"
+
+
+# ---------------------------------------------------------------------- generate, build, load
+def generate_sources(ev, directory, stem: str) -> tuple[Path, Path]:
+    """Write ``stem.c`` and ``stem.h`` (documented) for every Function of ``ev``."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    cg = ca.CodeGenerator(f"{stem}.c", {"with_header": True})
+    for name in GENERATED_FUNCTIONS:
+        if name in ev._symbolic:
+            cg.add(ev._symbolic[name])
+    cg.generate(str(directory) + os.sep)
+    c_path, h_path = directory / f"{stem}.c", directory / f"{stem}.h"
+    notes = header_notes(ev)
+    for path in (h_path, c_path):
+        path.write_text(notes + path.read_text())
+    return c_path, h_path
+
+
+def build_library(c_path, so_path, compiler: str | None = None, flags=DEFAULT_FLAGS,
+                  timeout: float = 300.0) -> Path:
+    """Compile ``c_path`` into the shared library ``so_path`` (atomically replaced).
+
+    Raises
+    ------
+    CompilerError
+        When the compiler is not found or fails.
+    """
+    cc = find_compiler(compiler)
+    exe = shutil.which(cc)
+    if exe is None:
+        raise CompilerError(f"C compiler {cc!r} not found (set SYMKIN_CC or CC, or pass compiler=)")
+    so_path = Path(so_path)
+    so_path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".so", dir=so_path.parent)
+    os.close(fd)
+    cmd = [exe, *flags, str(c_path), "-o", tmp, "-lm"]
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        os.unlink(tmp)
+        raise CompilerError(f"C compiler {cc!r} could not run: {exc}") from None
+    if proc.returncode != 0:
+        os.unlink(tmp)
+        raise CompilerError(f"C compiler {cc!r} failed (exit {proc.returncode}): "
+                            f"{proc.stderr.strip()[:2000]}", proc.stderr)
+    os.replace(tmp, so_path)
+    return so_path
+
+
+def load_library(so_path, names) -> dict[str, ca.Function]:
+    """``casadi.external`` Functions ``names`` from the library (kept for the process)."""
+    key = str(Path(so_path).resolve())
+    loaded = _LOADED.get(key)
+    if loaded is None or any(n not in loaded for n in names):
+        loaded = {n: ca.external(n, key) for n in names}
+        _LOADED[key] = loaded
+    return loaded
+
+
+def compile_evaluators(ev, cache_dir=None, compiler: str | None = None, flags=None, force: bool = False):
+    """Generate, compile (once, cached on disk) and load C for the Functions of ``ev``.
+
+    Parameters
+    ----------
+    ev : Evaluators
+    cache_dir : path, optional
+        Artefact directory (default :func:`cache_directory`).
+    compiler : str, optional
+        C compiler command (default :func:`find_compiler`).
+    flags : sequence of str, optional
+        Compiler flags (default :data:`DEFAULT_FLAGS`).
+    force : bool
+        Regenerate and recompile even when the artefact exists.  (A process that has
+        already loaded that library keeps its loaded code: the dynamic loader does not
+        load a path twice.)
+
+    Returns
+    -------
+    Evaluators
+        ``ev`` itself, its ``functions`` replaced by the compiled ones (``ev.compiled``
+        True, ``ev.library`` the shared library), or unchanged with a
+        :class:`CodegenWarning` when no compiler works.
+    """
+    flags = tuple(DEFAULT_FLAGS if flags is None else flags)
+    cc = find_compiler(compiler)
+    directory = cache_directory(cache_dir)
+    stem = artefact_stem(ev.mech, cc, flags)
+    so_path = directory / f"{stem}.so"
+    names = [n for n in GENERATED_FUNCTIONS if n in ev._symbolic]
+
+    def build():
+        with tempfile.TemporaryDirectory(dir=_ensure(directory)) as tmp:
+            c_path, h_path = generate_sources(ev, tmp, stem)
+            build_library(c_path, so_path, cc, flags)
+            for src in (c_path, h_path):
+                os.replace(src, directory / src.name)
+            (directory / f"{stem}.json").write_text(json.dumps(manifest(ev), indent=1))
+        _LOADED.pop(str(so_path.resolve()), None)
+
+    try:
+        if force or not so_path.exists():
+            build()
+        try:
+            functions = load_library(so_path, names)
+        except RuntimeError:  # a damaged or foreign file under our name: build it again, once
+            build()
+            functions = load_library(so_path, names)
+    except (CompilerError, OSError, RuntimeError) as exc:
+        warnings.warn(f"symkin: could not compile the evaluators of {ev.mech.name!r} ({exc}); "
+                      "using the in-process CasADi functions, which give the same numbers more slowly",
+                      CodegenWarning, stacklevel=3)
+        return ev
+    ev.functions = dict(functions)
+    ev.compiled = True
+    ev.library = str(so_path)
+    ev._cache.clear()
+    return ev
+
+
+def _ensure(directory: Path) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    return directory
