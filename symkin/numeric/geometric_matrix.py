@@ -92,7 +92,11 @@ def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: 
 
 
 def _frame(pts: np.ndarray, h: int) -> list[int]:
-    """Indices of h+1 affinely independent points, chosen greedily for conditioning."""
+    """Indices of h+1 affinely independent points, chosen greedily for conditioning.
+
+    Near-ties (within a relative 1e-9) go to the lowest index, so that a symmetric body gets
+    the same frame at neighbouring configurations instead of one decided by rounding.
+    """
     frame = [0]
     for _ in range(h):
         base = pts[frame[0]]
@@ -106,7 +110,8 @@ def _frame(pts: np.ndarray, h: int) -> list[int]:
                 q, _ = np.linalg.qr(span.T)
                 d = d - q @ (q.T @ d)
             dist = float(np.linalg.norm(d))
-            if dist > best_d:
+            # ties within rounding go to the lower index, so symmetric bodies get one frame
+            if best is None or dist > best_d * (1.0 + 1e-9):
                 best, best_d = k, dist
         frame.append(best)
     return frame
