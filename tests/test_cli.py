@@ -111,3 +111,12 @@ def test_path_user_errors(capsys, args, expected):
     model = str(EXAMPLES / "fourbar_appendix.toml")
     code, out, err = run(capsys, "path", model, *args)
     assert code == 2 and err.startswith(f"{model}: ") and expected in err and "Traceback" not in err
+
+
+def test_path_plot_writes_a_png(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    target = tmp_path / "fig.png"
+    code, out, err = run(capsys, "path", str(EXAMPLES / "fourbar_appendix.toml"), "--to", "360",
+                         "--plot", str(target), "--json")
+    assert code == 0 and json.loads(out)["stop_reason"] == "reached"
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and "figure written" in err
