@@ -15,6 +15,7 @@ distal line 3 while the elbows stay at rest.
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -22,53 +23,16 @@ import numpy as np
 import symkin
 from symkin.reproduce import Checklist
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from planar_rrr_geometry import LEGS, cross, hand_gamma, rotation_about  # noqa: E402
+
 HERE = Path(__file__).resolve().parent
-LEGS = (1, 2, 3)
-
-
-def cross(u, v) -> float:
-    """z component of the planar cross product."""
-    return float(u[0] * v[1] - u[1] * v[0])
-
-
-def perp(v) -> np.ndarray:
-    return np.array([-v[1], v[0]], dtype=float)
-
-
-def hand_gamma(xyz: dict) -> tuple[np.ndarray, float]:
-    """γ_i = w_i (a_i × d_i) of eq. (5), with w the equilibrium weights of the distal lines.
-
-    Column i of the 3×3 matrix is the force line of distal link i on the platform,
-    ``(d_x, d_y, C_i × d_i)``; ``w`` spans its null space.  γ is scaled so that its first
-    non-zero entry is 1.  Also returns σ_min/σ_max of that matrix.
-    """
-    cols, arms = [], []
-    for k in LEGS:
-        a_, b_, c_ = (np.array(xyz[f"{n}{k}"], dtype=float) for n in "ABC")
-        d = c_ - b_
-        cols.append([d[0], d[1], cross(c_, d)])
-        arms.append(cross(b_ - a_, d))
-    _, s, vt = np.linalg.svd(np.array(cols).T)
-    gamma = vt[-1] * np.array(arms)
-    pivot = next(g for g in gamma if abs(g) > 1e-12 * np.abs(gamma).max())
-    return gamma / pivot, float(s[-1] / s[0])
 
 
 def line_intersection(p, u, q, v) -> np.ndarray:
     """Intersection of the lines p + s u and q + t v."""
     s, _ = np.linalg.solve(np.array([u, -np.asarray(v)]).T, np.subtract(q, p))
     return np.asarray(p, dtype=float) + s * np.asarray(u, dtype=float)
-
-
-def rotation_about(motion, xyz: dict, centre, movers) -> tuple[float, float, float]:
-    """Fit ``v = Ω (X − centre)⊥`` to ``movers``; return Ω, relative residual, other nodes' top speed."""
-    vel = {n: np.array(v) for n, v in motion.velocities}
-    basis = np.concatenate([perp(np.subtract(xyz[n], centre)) for n in movers])
-    v = np.concatenate([vel[n] for n in movers])
-    omega = float(basis @ v / (basis @ basis))
-    resid = float(np.linalg.norm(v - omega * basis) / np.linalg.norm(v))
-    others = max((float(np.linalg.norm(w)) for n, w in vel.items() if n not in movers), default=0.0)
-    return omega, resid, others
 
 
 def check() -> Checklist:
