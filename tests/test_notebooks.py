@@ -1,8 +1,6 @@
 """Notebooks in notebooks/ execute from top to bottom without error (headless, nbclient)."""
 from __future__ import annotations
 
-import os
-
 import pytest
 
 from tests.conftest import ROOT

@@ -5,7 +5,6 @@ import json
 
 from symkin.analysis.classification import analyze
 from symkin.commands import Output
-from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 from symkin.report import render_text
 

@@ -115,9 +115,9 @@ def run(args) -> Output:
             bar.close()
     notes = []
     if args.plot:
-        try:
-            import matplotlib  # noqa: F401
-        except ImportError:
+        import importlib.util
+
+        if importlib.util.find_spec("matplotlib") is None:
             raise SymkinError("--plot needs matplotlib: pip install 'symkin[plots]'") from None
         from symkin.plots import save_path_figures
 

@@ -423,7 +423,7 @@ def _rotation_axis(item, link, key, ctx, out):
             return False
         return None
     if axis is None:
-        out.add(key, f"a spatial rotation needs an axis: axis = [\"N1\", \"N2\"] or [ax, ay, az]")
+        out.add(key, "a spatial rotation needs an axis: axis = [\"N1\", \"N2\"] or [ax, ay, az]")
         return False
     if isinstance(axis, (list, tuple)) and len(axis) == 2 and all(isinstance(a, str) for a in axis):
         missing = [a for a in axis if a not in nodes]

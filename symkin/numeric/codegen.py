@@ -128,7 +128,7 @@ def manifest(ev) -> dict:
         if name not in ev._symbolic:
             continue
         f = ev._symbolic[name]
-        each = f" (one column per configuration)" if name.endswith("_batch") else ""
+        each = " (one column per configuration)" if name.endswith("_batch") else ""
         funcs[name] = {
             "inputs": [{"name": f.name_in(i), "shape": list(f.size_in(i)),
                         "meaning": _DESCRIPTIONS.get(f.name_in(i), "") + each} for i in range(f.n_in())],

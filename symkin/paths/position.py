@@ -12,8 +12,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.paths.continuation import newton

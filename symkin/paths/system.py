@@ -10,7 +10,6 @@ the drive and the geometric / parameter rows are CasADi Functions of ``y``.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import casadi as ca
 import numpy as np

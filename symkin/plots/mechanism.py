@@ -11,7 +11,7 @@ matplotlib is imported inside the functions, so ``import symkin`` does not impor
 from __future__ import annotations
 
 import numbers
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 
