@@ -129,20 +129,10 @@ class Path:
 class _Counting:
     """Wraps a curve problem and counts residual evaluations (for the benchmark)."""
 
-    def residual(self, y):
-        self.count += 1
-        return self.problem.residual(y)
-
-    def jacobian(self, y):
-        return self.problem.jacobian(y)
-
-    def residual_and_jacobian(self, y):
-        self.count += 1
-        return self.problem.residual_and_jacobian(y)
-
-    @property
-    def fast_corrector(self):
-        return self.problem.fast_corrector
+    def __init__(self, problem):
+        self.problem, self.count = problem, 0
+        fast = problem.fast_corrector
+        self.fast_start = fast.steps if fast is not None else 0
 
     @property
     def total(self) -> int:
@@ -150,10 +140,20 @@ class _Counting:
         fast = self.problem.fast_corrector
         return self.count + (fast.steps - self.fast_start if fast is not None else 0)
 
-    def __init__(self, problem):
-        self.problem, self.count = problem, 0
-        fast = problem.fast_corrector
-        self.fast_start = fast.steps if fast is not None else 0
+    @property
+    def fast_corrector(self):
+        return self.problem.fast_corrector
+
+    def residual(self, y):
+        self.count += 1
+        return self.problem.residual(y)
+
+    def residual_and_jacobian(self, y):
+        self.count += 1
+        return self.problem.residual_and_jacobian(y)
+
+    def jacobian(self, y):
+        return self.problem.jacobian(y)
 
     def second_derivative(self, y, v):
         return self.problem.second_derivative(y, v)
