@@ -41,6 +41,8 @@ __all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
 _IM_DETECT = 0.05   # a local minimum of σ_{F+1} below this is refined
 _IM_ACCEPT = 1e-7   # ... and is an IM event when the refined minimum is below this
 _NEAR_IM = 1e-5     # an event located where σ_{F+1} is below this is refined as a branch point
+_FLAT = 1e-9        # a signed test below this at both ends of a step is identically zero there
+_ROOT = 1e-6        # a located root must bring the test below this fraction of its bracket values
 
 
 @dataclass(frozen=True)
@@ -70,6 +72,18 @@ class PathEvent:
     y: np.ndarray | None = field(default=None, repr=False, compare=False)
     t: np.ndarray | None = field(default=None, repr=False, compare=False)
     tests: tuple[str, ...] = ()
+
+    @property
+    def confirmed(self) -> bool | None:
+        """Whether the classifier at the located configuration finds the singularity of ``kind``.
+
+        False flags an event whose test function vanishes but whose configuration the
+        classifier, at its tolerance, does not call singular in that way (e.g. a point located
+        only to ~1e-6 on a degenerate family of singular configurations); None for "end".
+        """
+        if self.analysis is None or self.kind == "end":
+            return None
+        return self.kind in self.analysis.types
 
 
 @dataclass(frozen=True)
@@ -113,7 +127,8 @@ class Path:
             item = {"input": num(e.input), "absolute": num(e.absolute), "s": e.s, "kind": e.kind,
                     "types": list(a.types) if a else [], "locked_links": list(a.locked_links) if a else [],
                     "dof": a.dof if a else None, "configuration": cfg(e.coordinates),
-                    "tests": list(e.tests), "test_value": e.value, "evaluations": e.evaluations}
+                    "tests": list(e.tests), "confirmed": e.confirmed, "test_value": e.value,
+                    "evaluations": e.evaluations}
             if a is not None:
                 item["analysis"] = a.to_dict()
             if e.bifurcation is not None:
@@ -392,9 +407,15 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
             if history:
                 pcp, pvals, pvalue = history[-1]
                 for tf in tests:
-                    if tf.signed and np.sign(pvals[tf.name]) * np.sign(vals[tf.name]) < 0:
+                    fa, fb = pvals[tf.name], vals[tf.name]
+                    # a test that is ~0 on the whole step (the path runs along such a
+                    # configuration, e.g. a locked input link) has no isolated root to locate
+                    if tf.signed and np.sign(fa) * np.sign(fb) < 0 and max(abs(fa), abs(fb)) > _FLAT:
                         reference["value"] = pvalue
-                        record_event(locate_sign_change(counted, tf, pcp, cp), pvalue)
+                        ev = locate_sign_change(counted, tf, pcp, cp)
+                        # a sign change through a jump (not a zero) leaves a large value at the "root"
+                        if abs(ev.value) <= _ROOT * max(abs(fa), abs(fb)) or _kind(tf.name) == "IM":
+                            record_event(ev, pvalue)
                 if len(history) >= 2:
                     (a, av, _), (b, bv, bvalue) = history[-2], history[-1]
                     for tf in tests:
