@@ -19,6 +19,16 @@ def _vec(v) -> str:
     return "(" + ", ".join(f"{c:+.4g}" for c in v) + ")"
 
 
+def _rank_sentence(which: str, labels, rank: int, f: int, dkp: bool) -> str:
+    n = len(labels)
+    if dkp:
+        return f"The {which} {', '.join(labels)} are dependent: rank {rank} < min(F, {n}) = {min(f, n)}."
+    if rank == n:
+        return f"The {which} are independent (rank {rank})."
+    return (f"The {which} have rank {rank}, not below min(F, {n}) = {min(f, n)}: no DKP; "
+            f"{n - rank} relation(s) among them hold as expected:")
+
+
 def _sentences(a) -> list[str]:
     out = []
     f, L = a.mobility, a.dof
@@ -36,19 +46,11 @@ def _sentences(a) -> list[str]:
     if a.im_indicator is not None:
         out.append(f"IM indicator (eigenvalue λ_{f + 1} of the reduced geometric matrix): {a.im_indicator:.6g}.")
     if a.input_rank is not None:
-        n = len(a.input_labels)
-        if "DKP-input" in a.types:
-            out.append(f"The inputs {', '.join(a.input_labels)} are dependent: rank {a.input_rank} < {min(f, n)}.")
-        else:
-            out.append(f"The inputs are independent (rank {a.input_rank}).")
+        out.append(_rank_sentence("inputs", a.input_labels, a.input_rank, f, "DKP-input" in a.types))
         for r in a.input_relations:
             out.append(f"  input relation (r = {r.r}): {r}")
     if a.output_rank is not None:
-        n = len(a.output_labels)
-        if "DKP-output" in a.types:
-            out.append(f"The outputs {', '.join(a.output_labels)} are dependent: rank {a.output_rank} < {min(f, n)}.")
-        else:
-            out.append(f"The outputs are independent (rank {a.output_rank}).")
+        out.append(_rank_sentence("outputs", a.output_labels, a.output_rank, f, "DKP-output" in a.types))
         for r in a.output_relations:
             out.append(f"  output relation (r = {r.r}): {r}")
     if a.locked_links:
