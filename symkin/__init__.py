@@ -19,6 +19,16 @@ from symkin.numeric.geometric_matrix import geometric_matrix
 from symkin.report import render_text
 
 
+def symbolic_model(mechanism, *args, **kwargs):
+    """Symbolic geometric matrices and conditions: see :func:`symkin.symbolic.symbolic_model`.
+
+    sympy is imported on first use, not with ``import symkin``.
+    """
+    from symkin.symbolic import symbolic_model as _symbolic_model
+
+    return _symbolic_model(mechanism, *args, **kwargs)
+
+
 def trace(mechanism, *args, **kwargs):
     """Trace a path and locate its singular configurations: see :func:`symkin.paths.trace.trace`."""
     from symkin.paths.trace import trace as _trace
@@ -32,6 +42,6 @@ __version__ = "0.1.0"
 
 __all__ = ["Analysis", "Evaluators", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "trace", "catalogue", "evaluators", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "analyze", "trace", "catalogue", "evaluators", "symbolic_model", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
            "write_model",
            "__version__"]
