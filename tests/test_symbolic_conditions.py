@@ -314,16 +314,41 @@ def test_rssr_input_condition_is_the_coupler_meeting_the_rocker_axis():
         assert ("DKP-input" in analyze(moved).types) is meets
 
 
-def test_redundant_rows_and_non_square_outputs_use_the_sum_of_squares():
-    mech = Mechanism.from_dict(EXTRA_MODELS["quad_coupler"])  # 4-node coupler: 6 rows of rank 5
+def rows_used(mech, cond):
+    """The numeric core's rows (free columns) of the equation a condition was derived from."""
+    free = free_mask(mech)
+    rows = constraint_rows(mech)
+    table = list(zip(rows.owners, rows.matrix[:, free]))
+    params = list(mech.inputs) + list(mech.outputs)
+    pm, labels = parameters_matrix(mech, params)
+    table += list(zip(labels, pm[:, free]))
+    out = []
+    for owner in cond.rows:
+        k = next(i for i, (o, _) in enumerate(table) if o == owner)
+        out.append(table.pop(k)[1])
+    return np.array(out)
+
+
+def test_redundant_rows_of_a_body():
+    """A 4-node coupler has 6 pair rows of rank 5: the IM condition is still G's coefficient
+    (sum over row subsets); the DKP conditions use an equivalent equation with 5 of them."""
+    mech = Mechanism.from_dict(EXTRA_MODELS["quad_coupler"])
     for mode in ("angles", "nodes"):
         sm = symbolic_model(mech, coordinates=mode)
         im = sm.im_condition()
-        out = sm.dkp_condition("output")  # 3 twist rows for F = 1
-        assert im.method == out.method == "sum of squared maximal minors"
+        assert im.method == "sum of squared maximal minors" and len(im.rows) == 8
         assert close(im.evaluate(), numeric_im(mech), 1.0)
-        assert close(out.evaluate(), numeric_dkp(mech, mech.outputs, signed=False), 1.0)
-        assert close(sm.dkp_condition("input").evaluate(), numeric_dkp(mech, mech.inputs, signed=True), 1.0)
+        dkp_in = sm.dkp_condition("input")  # 7 independent rows + 1 input: square
+        assert dkp_in.method == "determinant" and len(dkp_in.rows) == 8
+        assert sum(o.startswith("link coupler") for o in dkp_in.rows) == 5
+        m = rows_used(mech, dkp_in)
+        assert close(dkp_in.evaluate(), float(np.linalg.det(m)), 1.0)
+        out = sm.dkp_condition("output")  # 3 twist rows for F = 1: all 8×8 minors
+        assert out.method == "sum of squared maximal minors"
+        m = rows_used(mech, out)
+        assert close(out.evaluate(), elementary(np.linalg.eigvalsh(m.T @ m), 8), 1.0)
+        # same verdict as the core: nonsingular here
+        assert analyze(mech).types == () and abs(dkp_in.evaluate()) > 1e-3 and abs(out.evaluate()) > 1e-3
 
 
 def test_conditions_that_never_or_always_hold():
@@ -405,3 +430,32 @@ def test_conditions_command(tmp_path):
     assert "DKP-input" in _run([str(spatial)]).text
     with pytest.raises(ModelFileError):
         _run([str(tmp_path / "missing.toml")])
+
+
+@pytest.mark.parametrize("name,mode", [("five_bar", "angles"), ("fourbar_appendix", "nodes"), ("rrr_3", "angles")])
+def test_gram_route_for_large_mechanisms(monkeypatch, name, mode):
+    """Beyond DIRECT_MINORS minors the IM condition is one Gram determinant det(J Jᵀ)."""
+    import symkin.symbolic.conditions as conditions
+
+    monkeypatch.setattr(conditions, "DIRECT_MINORS", 0)
+    mech = catalogue.get(name)
+    sm = symbolic_model(mech, coordinates=mode, design_symbols=True)  # moved bodies change shape
+    im = conditions.im_condition(sm)
+    assert im.method == "Gram determinant"
+    rng = np.random.default_rng(1)
+    xyz = np.array([p for _, p in mech.nodes])
+    for moved in (mech, mech.with_coordinates(xyz + rng.normal(scale=0.2, size=xyz.shape))):
+        values = sm.values_at(moved)
+        assert close(im.evaluate(values), numeric_im(moved), 1.0)
+    if name == "five_bar":
+        t = {k: sm.symbol(f"theta_{k}") for k in ("crank1", "crank2", "distal1", "distal2")}
+        s1, s2 = sp.sin(t["crank1"] - t["distal1"]) ** 2, sp.sin(t["crank2"] - t["distal2"]) ** 2
+        assert im.readable == s1 * s2 + s1 + s2 + sp.sin(t["distal1"] - t["distal2"]) ** 2
+
+
+def test_time_limit_stops_a_derivation():
+    from symkin.symbolic.conditions import DerivationTimeout
+
+    sm = symbolic_model(catalogue.get("rrr_3"), coordinates="nodes")
+    with pytest.raises(DerivationTimeout, match="time limit"):
+        sm.im_condition(time_limit=1e-6)

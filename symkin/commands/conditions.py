@@ -27,6 +27,8 @@ def add_arguments(p) -> None:
     p.add_argument("--design-symbols", action="store_true",
                    help="keep lengths (and internal angles of bodies) as symbols l_<link>, beta_<body>_<i>_<j>")
     p.add_argument("--latex", action="store_true", help="print each condition in LaTeX")
+    p.add_argument("--time-limit", type=float, default=120.0, metavar="SECONDS",
+                   help="give up on a condition after this many seconds (default 120; 0 = no limit)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -43,13 +45,20 @@ def run(args) -> Output:
     if coordinates == "angles" and mech.dim != 2:
         raise SymkinError(f"{args.model}: angle coordinates are for planar models; use --coordinates nodes")
     sm = symbolic_model(mech, coordinates=coordinates, design_symbols=args.design_symbols)
-    conditions = [sm.im_condition()]
-    skipped = []
+    limit = args.time_limit if args.time_limit and args.time_limit > 0 else None
+    conditions, skipped = [], []
+    try:
+        conditions.append(sm.im_condition(time_limit=limit))
+    except SymkinError as exc:  # too large or too long: report it, go on with the others
+        skipped.append(str(exc))
     for which, params in (("input", mech.inputs), ("output", mech.outputs)):
-        if params:
-            conditions.append(sm.dkp_condition(which))
-        else:
+        if not params:
             skipped.append(f"DKP-{which}: the model declares no {which}s")
+            continue
+        try:
+            conditions.append(sm.dkp_condition(which, time_limit=limit))
+        except SymkinError as exc:
+            skipped.append(str(exc))
     if args.json:
         data = {"model": str(args.model), "name": mech.name, "coordinates": coordinates,
                 "design_symbols": bool(args.design_symbols),
@@ -74,7 +83,9 @@ def run(args) -> Output:
     for text in skipped:
         lines.append("")
         lines.append(text)
-    return Output("\n".join(lines))
+    failed = len(conditions) < 1 + sum(1 for p in (mech.inputs, mech.outputs) if p)
+    return Output("\n".join(lines), code=1 if failed else 0,
+                  message="some conditions were not derived (see above)" if failed else "")
 
 
 __all__ = ["NAME", "HELP", "add_arguments", "run"]

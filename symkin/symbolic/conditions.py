@@ -21,7 +21,7 @@ How it is computed (no determinant of a large symbolic matrix is ever expanded):
    connected components); its determinant is the product of the diagonal blocks' ones —
    for the 3-RRR the inputs split off each leg and leave the platform block;
 3. each block's determinant is expanded along columns with memoised minors (fraction free,
-   sparse) in sympy's sparse polynomial ring (Bareiss elimination above 16 rows);
+   sparse) in sympy's sparse polynomial ring (Bareiss elimination above 40 rows);
 4. each block determinant is factored: trial division by a library of known geometric
    factors (parallel links, concurrent link lines, minors at a node, squared lengths), a
    gcd split when it is linear in some generator, ``factor_list`` on what remains;
@@ -37,12 +37,14 @@ Every readable form is checked to equal its factor (by construction or at random
 """
 from __future__ import annotations
 
+import contextvars
 import itertools
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 
+import numpy as np
 import sympy as sp
 from sympy import QQ
 from sympy.polys.rings import ring
@@ -50,7 +52,8 @@ from sympy.polys.rings import ring
 from symkin.errors import SymkinError
 from symkin.symbolic.rows import SymRow
 
-__all__ = ["Factor", "Condition", "im_condition", "dkp_condition", "MAX_MINORS", "FACTOR_TERMS"]
+__all__ = ["Factor", "Condition", "DerivationTimeout", "im_condition", "dkp_condition", "MAX_MINORS",
+           "FACTOR_TERMS"]
 
 #: most maximal minors enumerated for a sum-of-squares condition
 MAX_MINORS = 20000
@@ -59,11 +62,31 @@ FACTOR_TERMS = 400
 #: largest Gram matrix J Jᵀ expanded for the readable form of a sum of squares (angles)
 GRAM_ROWS = 14
 #: diagonal blocks larger than this use Bareiss elimination instead of the memoised expansion
-LAPLACE_ROWS = 16
+LAPLACE_ROWS = 40
 #: sums of squares of minors expanded (to recognise a trivial sum) up to about this many terms
 SUM_TERMS = 2000
+#: most monomial expansions spent on the Fourier form of one factor
+FOURIER_WORK = 20000
+#: Gram determinants with more terms than this are not offered as readable forms
+GRAM_TERMS = 3000
+#: IM conditions with more maximal minors than this are derived as one Gram determinant
+DIRECT_MINORS = 5000
 #: most link lines whose triples are tried as concurrent-lines factors (nodal coordinates)
 MAX_LINES = 15
+
+
+_DEADLINE: contextvars.ContextVar = contextvars.ContextVar("symkin_symbolic_deadline", default=None)
+
+
+class DerivationTimeout(SymkinError):
+    """A derivation ran past its time limit (``time_limit=`` of the condition functions)."""
+
+
+def _check_deadline() -> None:
+    deadline = _DEADLINE.get()
+    if deadline is not None and time.perf_counter() > deadline[0]:
+        raise DerivationTimeout(f"{deadline[1]}: not derived within the time limit of {deadline[2]:g} s "
+                                "(this mechanism is large for an exact symbolic derivation)")
 
 
 # ====================================================================== results
@@ -123,6 +146,9 @@ class Condition:
         Time the derivation took.
     note : str
         What the zero set contains, in words.
+    rows : tuple of str
+        Owners of the rows of the velocity equation it was derived from, in order
+        (constraint rows as :attr:`SymbolicModel.row_owners`, then parameter labels).
     """
 
     kind: str
@@ -135,6 +161,7 @@ class Condition:
     seconds: float
     note: str
     model: object = field(repr=False, default=None)
+    rows: tuple[str, ...] = ()
 
     # ---------------------------------------------------------------- views
     @property
@@ -434,6 +461,7 @@ def _laplace_det(R, rows: list[dict], cols: list[int]):
             return R.one
         if used in memo:
             return memo[used]
+        _check_deadline()
         total = R.zero
         c = ordered[k]
         position = 0
@@ -566,6 +594,9 @@ def _readable_trig(ctx: _Context, p) -> tuple[sp.Expr, bool]:
     through ``cos 2u = 1 − 2 sin²u`` or ``2 cos²u − 1`` (all combinations when there are
     at most 6 such terms), e.g. ``1 − cos(2u)/2 − cos(2v)/2 → sin²u + sin²v``.
     """
+    work = sum(math.prod(m[ic] + m[is_] + 1 for ic, is_ in ctx.trig_index.values()) for m in p.itermonoms())
+    if work > FOURIER_WORK:  # too big to expand into a Fourier series: keep the polynomial
+        return ctx.to_expr(p), False
     terms = fourier_terms(ctx, p)
     if not terms:
         return sp.Integer(0), True
@@ -607,6 +638,8 @@ class _Library:
         self.ctx = ctx
         self.known: dict[tuple, _Known] = {}
         self.divisors: list = []
+        self.support: dict[int, frozenset] = {}
+        self.degree: dict[int, int] = {}
         sm = ctx.sm
         b = sm._builder
         pairs = []
@@ -674,13 +707,16 @@ class _Library:
         if k not in self.known:
             self.known[k] = _Known(readable, meaning, trivial, p.LC)
             self.divisors.append(m)
+            self.support[id(m)] = _support(m)
+            self.degree[id(m)] = max(sum(e) for e in m.itermonoms())
 
     def add_minor_divisors(self, rows: list[dict], row_blocks: list) -> None:
         """Node-block minors of the rows (``dim`` rows touching one node) as trial divisors."""
         sm = self.ctx.sm
         dim = sm.dim
         for node_cols in row_blocks:
-            touching = [r for r in rows if any(c in r for c in node_cols)]
+            touching = [r for r in rows if any(c in r for c in node_cols)
+                        and sum(len(r.get(c, ())) for c in node_cols) <= 12]  # small entries only
             if len(touching) < dim or len(touching) > 8:
                 continue
             for combo in itertools.combinations(touching, dim):
@@ -691,6 +727,11 @@ class _Library:
 
     def lookup(self, p) -> _Known | None:
         return self.known.get(_key(p.monic()))
+
+
+def _support(p) -> frozenset:
+    """Indices of the generators a polynomial uses."""
+    return frozenset(i for m in p.itermonoms() for i, e in enumerate(m) if e)
 
 
 def _cross3(a, b):
@@ -714,6 +755,8 @@ def _factor_list(p):
             h = p.exquo(g)
             c, fl = _factor_list(g)
             return c, fl + [(h, 1)]
+    if len(p) > FACTOR_TERMS:  # too big for dense factoring: one factor (maybe reducible)
+        return QQ(1), [(p, 1)]
     return _factor_list_dense(p)
 
 
@@ -742,11 +785,15 @@ def _factorize(p, library: _Library | None) -> tuple[object, list]:
     const = p.LC
     q = p.monic()
     found: list = []
+    if not q.is_ground and (len(q) <= FACTOR_TERMS or any(q.degree(i) == 1 for i in range(q.ring.ngens))):
+        library = None  # factor_list (with its gcd shortcut) finds every factor: no trial division
     if library is not None and not q.is_ground:
+        support = _support(q)
+        degree = max(sum(m) for m in q.itermonoms())
         for d in library.divisors:
             if q.is_ground:
                 break
-            if d.degree() is None or len(d) > len(q):
+            if not library.support[id(d)] <= support or library.degree[id(d)] > degree:
                 continue
             mult = 0
             while True:
@@ -760,7 +807,7 @@ def _factorize(p, library: _Library | None) -> tuple[object, list]:
     if not q.is_ground:
         const *= q.LC
         q = q.monic()
-        if len(q) <= FACTOR_TERMS:
+        if len(q) <= FACTOR_TERMS or any(q.degree(i) == 1 for i in range(q.ring.ngens)):
             c, fl = _factor_list(q)
             const *= c
             for f, m in fl:
@@ -949,6 +996,7 @@ class _MinorEngine:
 
     def minor(self, rows_idx: tuple, cols: tuple) -> tuple | None:
         """``(constant, [(factor, mult)])`` of the minor, or None when it vanishes identically."""
+        _check_deadline()
         colpos = {c: k for k, c in enumerate(cols)}
         sub = [{colpos[c]: p for c, p in self.rows[r].items() if c in colpos} for r in rows_idx]
         bt = block_determinant(self.d.ctx.R, sub, len(cols))
@@ -972,6 +1020,11 @@ class _MinorEngine:
 
 
 def _determinant_condition(sm, kind, labels, rows: list[SymRow], note: str, t0: float) -> Condition:
+    cond = _derive_determinant(sm, kind, labels, rows, note, t0)
+    return replace(cond, rows=tuple(r.owner for r in rows))
+
+
+def _derive_determinant(sm, kind, labels, rows: list[SymRow], note: str, t0: float) -> Condition:
     deriver = _Deriver(sm, rows)
     _, cols = _free_rows(sm, rows)
     poly_rows = [deriver.ctx.row(r, cols) for r in rows]
@@ -991,6 +1044,13 @@ def _determinant_condition(sm, kind, labels, rows: list[SymRow], note: str, t0: 
 def _sum_of_squares_condition(sm, kind, labels, rows: list[SymRow], size: int, note: str,
                               t0: float) -> Condition:
     """``Σ det(M_{R,C})²`` over all ``size × size`` minors (Cauchy–Binet), common factors out."""
+    live = [r for r in rows if _free_rows(sm, [r])[0]]
+    cond = _derive_sum_of_squares(sm, kind, labels, rows, size, note, t0)
+    return replace(cond, rows=tuple(r.owner for r in live))
+
+
+def _derive_sum_of_squares(sm, kind, labels, rows: list[SymRow], size: int, note: str,
+                               t0: float) -> Condition:
     method = "sum of squared maximal minors"
     deriver = _Deriver(sm, rows)
     _, cols = _free_rows(sm, rows)
@@ -1170,13 +1230,16 @@ def _agree(sm, a: sp.Expr, b: sp.Expr, trials: int = 2) -> bool:
 
     rnd = random.Random(271828)
     syms = sorted(a.free_symbols | b.free_symbols, key=lambda s: s.name)
-    fa = sp.lambdify(syms, a, modules="math", cse=True)
-    fb = sp.lambdify(syms, b, modules="math", cse=True)
-    for _ in range(trials):
-        point = [rnd.uniform(0.5, 2.0) if s.is_positive else rnd.uniform(-3.0, 3.0) for s in syms]
-        va, vb = float(fa(*point)), float(fb(*point))
-        if not math.isclose(va, vb, rel_tol=1e-9, abs_tol=1e-12 * max(1.0, abs(vb))):
-            return False
+    try:
+        fa = sp.lambdify(syms, a, modules="math", cse=True)
+        fb = sp.lambdify(syms, b, modules="math", cse=True)
+        for _ in range(trials):
+            point = [rnd.uniform(0.5, 2.0) if s.is_positive else rnd.uniform(-3.0, 3.0) for s in syms]
+            va, vb = float(fa(*point)), float(fb(*point))
+            if not math.isclose(va, vb, rel_tol=1e-9, abs_tol=1e-12 * max(1.0, abs(vb))):
+                return False
+    except (RecursionError, MemoryError, OverflowError, ValueError, ZeroDivisionError):
+        return False  # too big or singular to check: do not use the rewritten form
     return True
 
 
@@ -1208,36 +1271,40 @@ def _block_dot(t1, t2) -> sp.Expr:
     return sp.Add(*out)
 
 
-def _gram_form(sm, rows: list[SymRow]) -> sp.Expr | None:
-    """``det(P Pᵀ)`` of the polynomial rows in angle coordinates, its entries written as
-    ``cos(α − β)`` (dot products of unit vectors), with ``cos²u = 1 − sin²u`` or
-    ``sin²u = 1 − cos²u`` where that shortens it: e.g. ``sin²(φ−θ) + sin²(ψ−θ)``."""
+def _gram_matrix(sm, rows: list[SymRow]):
+    """The Gram matrix ``P Pᵀ`` of the polynomial rows over the free coordinates, as sparse
+    polynomial rows; in angle coordinates its entries are written ``Σ c c' cos(α − β)`` and
+    each distinct ``cos``/``sin`` becomes a generator.  Returns ``(ring, rows, back)``."""
     free = set(sm.free)
     dim = sm.dim
-    blocks = [{n: t for n, t in r.blocks if dim * n in free} for r in rows]
     entries = [[sp.Integer(0)] * len(rows) for _ in rows]
-    for i in range(len(rows)):
-        for j in range(i, len(rows)):
-            shared = set(blocks[i]) & set(blocks[j])
-            e = sp.Add(*[_block_dot(blocks[i][n], blocks[j][n]) for n in shared]) if shared else sp.Integer(0)
-            entries[i][j] = entries[j][i] = e
+    if sm.coordinates == "angles":
+        blocks = [{n: t for n, t in r.blocks if dim * n in free} for r in rows]
+        for i in range(len(rows)):
+            for j in range(i, len(rows)):
+                shared = set(blocks[i]) & set(blocks[j])
+                e = sp.Add(*[_block_dot(blocks[i][n], blocks[j][n]) for n in shared]) if shared else sp.Integer(0)
+                entries[i][j] = entries[j][i] = e
+    else:
+        rowentries = [{c: e for c, e in r.entries(dim).items() if c in free} for r in rows]
+        for i in range(len(rows)):
+            for j in range(i, len(rows)):
+                e = sp.Add(*[rowentries[i][c] * rowentries[j][c] for c in rowentries[i] if c in rowentries[j]])
+                entries[i][j] = entries[j][i] = e
     atoms = sorted({a for row in entries for e in row for a in e.atoms(sp.cos, sp.sin)}, key=sp.default_sort_key)
     dummies = [sp.Dummy() for _ in atoms]
     forward = dict(zip(atoms, dummies))
     symbols = sorted({s for row in entries for e in row for s in e.xreplace(forward).free_symbols} - set(dummies),
                      key=lambda s: s.name)
-    gens = dummies + symbols
-    if not gens:
-        return None
-    try:
-        R, *_ = ring(gens, QQ)
-        prows = [{j: R.from_expr(sp.expand(e.xreplace(forward))) for j, e in enumerate(row) if e != 0}
-                 for row in entries]
-    except Exception:  # a coefficient outside QQ (should not happen): no Gram form
-        return None
-    det = _laplace_det(R, prows, list(range(len(rows))))
-    expr = det.as_expr().xreplace(dict(zip(dummies, atoms)))
+    gens = dummies + symbols or [sp.Dummy("one")]
+    R, *_ = ring(gens, QQ)
+    prows = [{j: R.from_expr(sp.expand(e.xreplace(forward))) for j, e in enumerate(row) if e != 0}
+             for row in entries]
+    return R, prows, dict(zip(dummies, atoms))
 
+
+def _square_rewrites(expr: sp.Expr) -> sp.Expr:
+    """Shortest of ``expr`` with some ``cos²u`` written ``1 − sin²u`` (or ``sin²u`` as ``1 − cos²u``)."""
     expr = sp.expand(expr)
     squared = sorted({x.base for x in expr.atoms(sp.Pow)
                       if isinstance(x.base, (sp.cos, sp.sin)) and x.exp.is_even and x.exp > 0},
@@ -1254,11 +1321,138 @@ def _gram_form(sm, rows: list[SymRow]) -> sp.Expr | None:
     else:
         choices = [set(), {b for b in squared if isinstance(b, sp.cos)}, {b for b in squared if isinstance(b, sp.sin)}]
     candidates = [swap(expr, c) if c else expr for c in choices]
-    best = min(candidates, key=lambda e: (sp.count_ops(e), len(str(e))))
-    return sm.substitute_design(best)
+    return min(candidates, key=lambda e: (sp.count_ops(e), len(str(e))))
 
 
-def im_condition(sm) -> Condition:
+def _gram_form(sm, rows: list[SymRow]) -> sp.Expr | None:
+    """``det(P Pᵀ)`` of the polynomial rows in angle coordinates, its entries written as
+    ``cos(α − β)`` (dot products of unit vectors), with ``cos²u = 1 − sin²u`` or
+    ``sin²u = 1 − cos²u`` where that shortens it: e.g. ``sin²(φ−θ) + sin²(ψ−θ)``."""
+    try:
+        R, prows, back = _gram_matrix(sm, rows)
+    except Exception:  # a coefficient outside QQ (should not happen): no Gram form
+        return None
+    det = _laplace_det(R, prows, list(range(len(rows))))
+    if len(det) > GRAM_TERMS:
+        return None
+    return sm.substitute_design(_square_rewrites(det.as_expr().xreplace(back)))
+
+
+def _gram_condition(sm, kind, labels, rows: list[SymRow], note: str, t0: float) -> Condition:
+    """``det(M Mᵀ)`` of rows that should be independent (as many as the rank sought): the
+    sum of squares of all maximal minors in one determinant, block-triangularised."""
+    return replace(_derive_gram(sm, kind, labels, rows, note, t0), rows=tuple(r.owner for r in rows))
+
+
+def _derive_gram(sm, kind, labels, rows: list[SymRow], note: str, t0: float) -> Condition:
+    R, prows, back = _gram_matrix(sm, rows)
+    bt = block_determinant(R, prows, len(prows))
+    method = "Gram determinant"
+    if bt is None:
+        return Condition(kind, labels, method, sp.Integer(0), (), (), sm.coordinates, time.perf_counter() - t0,
+                         "the Gram determinant vanishes identically: the condition holds everywhere", sm)
+    sign, blocks = bt
+    const = QQ(sign)
+    geometric, trivial = [], sp.Integer(1)
+    for brows, bcols in blocks:
+        det = _laplace_det(R, [prows[i] for i in brows], list(bcols))
+        if not det:
+            return Condition(kind, labels, method, sp.Integer(0), (), (), sm.coordinates,
+                             time.perf_counter() - t0, "the Gram determinant vanishes identically", sm)
+        c, fl = _factorize(det, None)
+        const *= c
+        for f, m in fl:
+            expr = sm.substitute_design(f.as_expr().xreplace(back))
+            if expr.is_number or (expr.free_symbols and all(x.is_positive for x in expr.free_symbols)
+                                  and f.is_monomial):
+                trivial *= expr ** m
+                continue
+            readable = _square_rewrites(expr) if len(f) <= 400 else expr
+            if readable.is_number and readable != 0:
+                trivial *= readable ** m
+                continue
+            geometric.append(Factor(expr, m, readable, False, "sum of squares (Gram determinant)"))
+    for r in rows:
+        trivial *= sm.substitute_design(r.scale) ** -2
+    coeff, rest = trivial.as_coeff_Mul()
+    constant = QQ.to_sympy(const) * coeff
+    factors = list(geometric)
+    for base, e in rest.as_powers_dict().items():
+        if base.is_number:
+            constant *= base ** e
+        elif e:
+            factors.append(Factor(base, e, base, True, "nonzero"))
+    return Condition(kind, labels, method, constant, tuple(factors), (), sm.coordinates,
+                     time.perf_counter() - t0, note, sm)
+
+
+def _independent_rows(sm, rows: list[SymRow]) -> list[SymRow]:
+    """Drop constraint rows that depend on others at *every* configuration.
+
+    Links are taken in model order.  A link enforces the distances of all its node pairs;
+    its rows are kept greedily (numerically, at the model's configuration) when they add
+    rank to its rows kept so far together with the pair rows of node pairs an earlier
+    link already enforces.  Both dependencies persist: a body keeps its shape (so a subset
+    spanning its rows here spans them everywhere), and a node pair shared by two bodies (a
+    revolute pair in space, a bar inside a body) is the same row in both.  The velocity
+    equation keeps its solutions, and its maximal minors their common zeros.
+    """
+    from symkin.numeric.geometric_matrix import constraint_rows
+
+    numeric = constraint_rows(sm.mechanism).matrix
+    if numeric.shape[0] != len(sm.rows):
+        return rows
+    mech = sm.mechanism
+    dim = sm.dim
+    index = {id(r): k for k, r in enumerate(sm.rows)}
+    node = mech.node_index()
+    xyz = [np.array(p, dtype=float) for _, p in mech.nodes]
+    ncoord = numeric.shape[1]
+
+    def pair_row(a: str, b: str) -> np.ndarray:
+        u = xyz[node[b]] - xyz[node[a]]
+        u = u / np.linalg.norm(u)
+        row = np.zeros(ncoord)
+        row[dim * node[a]: dim * node[a] + dim] = u
+        row[dim * node[b]: dim * node[b] + dim] = -u
+        return row
+
+    def rank(m: np.ndarray) -> int:
+        if m.shape[0] == 0:
+            return 0
+        sv = np.linalg.svd(m, compute_uv=False)
+        return int(np.count_nonzero(sv > 1e-9 * max(sv[0], 1e-300)))
+
+    free = np.array([c in set(sm.free) for c in range(ncoord)])
+    mine = {id(r) for r in rows}
+    enforced: set = set()
+    dropped = set()
+    for link, ns in mech.links:
+        group = [r for r in sm.rows if r.element == link and id(r) in mine]
+        shared = [pair_row(a, b) for a, b in itertools.combinations(ns, 2) if frozenset((a, b)) in enforced]
+        basis = np.array(shared).reshape(-1, ncoord)[:, free]
+        base_rank = rank(basis)
+        for r in group:
+            trial = np.vstack([basis, numeric[index[id(r)]][free]])
+            if rank(trial) > base_rank:
+                basis, base_rank = trial, base_rank + 1
+            else:
+                dropped.add(id(r))
+        enforced |= {frozenset(pair) for pair in itertools.combinations(ns, 2)}
+    return [r for r in rows if id(r) not in dropped]
+
+
+def _with_limit(kind: str, time_limit: float | None, fn):
+    if time_limit is None:
+        return fn()
+    token = _DEADLINE.set((time.perf_counter() + float(time_limit), kind, float(time_limit)))
+    try:
+        return fn()
+    finally:
+        _DEADLINE.reset(token)
+
+
+def im_condition(sm, time_limit: float | None = None) -> Condition:
     """The IM condition of a :class:`~symkin.symbolic.model.SymbolicModel` (§III-A, eq. 8).
 
     Returns ``e_r(G_r)``, the coefficient of ``λ^F`` of ``det(λI − G_r)`` up to the sign
@@ -1268,7 +1462,16 @@ def im_condition(sm) -> Condition:
     the distinct minors: ``L > F`` exactly where all of them vanish.  In angle coordinates
     the readable form is ``det(J Jᵀ)`` written with ``cos(α − β)`` entries and
     ``cos² = 1 − sin²`` where that is shorter.
+
+    Large mechanisms (more than ``DIRECT_MINORS`` minors): the rows of each rigid body are
+    first reduced to an independent subset (same solutions, same zero set), then the
+    condition is ``det(J Jᵀ)`` of the reduced rows, one Gram determinant; its value is then
+    the coefficient of the reduced equation's matrix, not of ``G``'s (the note says so).
     """
+    return _with_limit("IM", time_limit, lambda: _im_condition(sm))
+
+
+def _im_condition(sm) -> Condition:
     t0 = time.perf_counter()
     mech = sm.mechanism
     f = mech.mobility_value
@@ -1276,10 +1479,20 @@ def im_condition(sm) -> Condition:
     r = max(n - f, 0)
     note = (f"e_{r}(G) = Σ (maximal minors)², the coefficient of λ^{f} of det(λI − G) up to the sign "
             f"(-1)^{r}; zero exactly where L > F = {f}")
+    rows, _ = _free_rows(sm, list(sm.rows))
+    if len(rows) >= r > 0 and math.comb(len(rows), r) * math.comb(n, r) > DIRECT_MINORS:
+        reduced = _independent_rows(sm, rows)
+        if len(reduced) == r:
+            note = (f"det(J Jᵀ) of the velocity equation with each body reduced to independent rows "
+                    f"({len(rows) - len(reduced)} dropped); zero exactly where L > F = {f}, but its value is "
+                    f"not G's coefficient when rows were dropped")
+            if math.comb(n, r) <= DIRECT_MINORS:
+                return _sum_of_squares_condition(sm, "IM", (), reduced, r, note, t0)
+            return _gram_condition(sm, "IM", (), reduced, note, t0)
     return _sum_of_squares_condition(sm, "IM", (), list(sm.rows), r, note, t0)
 
 
-def dkp_condition(sm, which: str = "input") -> Condition:
+def dkp_condition(sm, which: str = "input", time_limit: float | None = None) -> Condition:
     """DKP condition of the inputs or the outputs (§III-B, eqs. 12-16).
 
     With the parameter rows ``P`` appended to the velocity equation, ``M = [J; P]``: the
@@ -1289,6 +1502,10 @@ def dkp_condition(sm, which: str = "input") -> Condition:
     """
     if which not in ("input", "output"):
         raise SymkinError(f"which must be 'input' or 'output', got {which!r}")
+    return _with_limit(f"DKP-{which}", time_limit, lambda: _dkp_condition(sm, which))
+
+
+def _dkp_condition(sm, which: str) -> Condition:
     t0 = time.perf_counter()
     mech = sm.mechanism
     params = mech.inputs if which == "input" else mech.outputs
@@ -1300,6 +1517,8 @@ def dkp_condition(sm, which: str = "input") -> Condition:
     n = len(sm.free)
     r = max(n - f, 0)
     kept, _ = _free_rows(sm, list(sm.rows))
+    if len(kept) > r:  # redundant rows of rigid bodies: an equivalent, square equation
+        kept = _independent_rows(sm, kept)
     k = len(prow)
     size = r + min(f, k)
     rows = kept + prow

@@ -357,7 +357,7 @@ class SymbolicModel:
             coeffs = [simp(c) for c in coeffs]
         return sp.Poly.from_list(coeffs, LAMBDA, domain=sp.EX)
 
-    def im_condition(self):
+    def im_condition(self, time_limit: float | None = None):
         """The increased-mobility condition (§III-A): ``L > F`` exactly where it vanishes.
 
         The lowest coefficient of the characteristic polynomial that is nonzero at generic
@@ -365,6 +365,12 @@ class SymbolicModel:
         sum of the squares of the maximal minors of the velocity equation (each minor
         factored through its block-triangular form).  See
         :func:`symkin.symbolic.conditions.im_condition`.
+
+        Parameters
+        ----------
+        time_limit : float, optional
+            Seconds after which the derivation stops with
+            :class:`~symkin.symbolic.conditions.DerivationTimeout` (a ``SymkinError``).
 
         Examples
         --------
@@ -375,15 +381,22 @@ class SymbolicModel:
         """
         from symkin.symbolic.conditions import im_condition
 
-        return im_condition(self)
+        return im_condition(self, time_limit=time_limit)
 
-    def dkp_condition(self, which: str = "input"):
+    def dkp_condition(self, which: str = "input", time_limit: float | None = None):
         """The DKP condition of the inputs (``"input"``) or the outputs (``"output"``).
 
         The determinant of the velocity equation augmented with the parameter rows (eq. 12),
         factored, with trivial factors separated; it vanishes exactly where some motion is
         left with those parameters locked: DKP configurations, and IM ones.  See
         :func:`symkin.symbolic.conditions.dkp_condition`.
+
+        Parameters
+        ----------
+        which : {"input", "output"}
+        time_limit : float, optional
+            Seconds after which the derivation stops with
+            :class:`~symkin.symbolic.conditions.DerivationTimeout`.
 
         Examples
         --------
@@ -394,4 +407,4 @@ class SymbolicModel:
         """
         from symkin.symbolic.conditions import dkp_condition
 
-        return dkp_condition(self, which)
+        return dkp_condition(self, which, time_limit=time_limit)

@@ -59,14 +59,14 @@ def _close(candidate: sp.Expr, value: float) -> bool:
 
 
 def exact(value: float) -> sp.Expr:
-    """An exact sympy number equal to the float ``value`` (to its last bit or so).
+    """A sympy number for the float ``value``: exact when a short exact form reproduces it.
 
-    Short forms are preferred when they reproduce the float: ``0.1 → 1/10``,
-    ``0.9219544457292887 → sqrt(85)/10``, ``-3.4641016151377544 → -2*sqrt(3)``; otherwise the
-    decimal the float prints as, as a rational.
+    ``0.1 → 1/10``, ``0.9219544457292887 → sqrt(85)/10``, ``-3.4641016151377544 → -2*sqrt(3)``;
+    a value with no short form stays a (15-digit) ``Float``, which is more honest than a
+    rational with thirty digits.
 
-    >>> exact(0.25), exact(2.5), exact(-3.4641016151377544)
-    (1/4, 5/2, -2*sqrt(3))
+    >>> exact(0.25), exact(2.5), exact(-3.4641016151377544), exact(0.123456789012345)
+    (1/4, 5/2, -2*sqrt(3), 0.123456789012345)
     """
     value = float(value)
     if value == int(value) and abs(value) < 2 ** 53:
@@ -75,16 +75,17 @@ def exact(value: float) -> sp.Expr:
     if rational.q <= 10 ** 6:
         return rational
     candidate = sp.nsimplify(value)
-    if _close(candidate, value) and sp.count_ops(candidate) <= 8:
+    if _close(candidate, value) and sp.count_ops(candidate) <= 8 and len(str(candidate)) <= 16:
         return candidate
-    return rational
+    return sp.Float(value, 15)
 
 
 def exact_angle(value: float) -> sp.Expr:
-    """An exact angle: a simple multiple of π when the float is one, else :func:`exact`.
+    """An angle as a sympy number: a simple multiple of π, or ``atan`` of a simple rational
+    (``± π``), when that reproduces the float; else :func:`exact`.
 
-    >>> exact_angle(1.0471975511965976), exact_angle(-3.141592653589793)
-    (pi/3, -pi)
+    >>> exact_angle(1.0471975511965976), exact_angle(-3.141592653589793), exact_angle(0.9272952180016122)
+    (pi/3, -pi, atan(4/3))
     """
     value = float(value)
     if value == 0.0:
@@ -92,4 +93,10 @@ def exact_angle(value: float) -> sp.Expr:
     ratio = sp.nsimplify(value / math.pi, tolerance=1e-13, rational=True)
     if ratio.q <= 24 and _close(ratio * sp.pi, value):
         return ratio * sp.pi
+    t = sp.nsimplify(math.tan(value), tolerance=1e-12, rational=True)
+    if t.q <= 1000 and abs(t.p) <= 10 ** 6:
+        for shift in (0, sp.pi, -sp.pi):
+            candidate = sp.atan(t) + shift
+            if _close(candidate, value):
+                return candidate
     return exact(value)
