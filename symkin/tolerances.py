@@ -38,10 +38,17 @@ class Tolerances:
     geometry : float
         Relative threshold for geometric validation of model files (slider on its line,
         coincident nodes), in units of the model's length scale.
+    same_configuration : float
+        Two configurations located along a path are the same configuration when their free
+        nodal coordinates differ by less than this (Euclidean norm of the difference, in
+        units of the model's length scale); their events are merged into one.  Located
+        events are accurate to ~1e-9 and distinct singular configurations of a path are
+        far apart, so ``1e-6`` separates the two cases with a wide margin.
     """
 
     rank: float = 1e-8
     geometry: float = 1e-6
+    same_configuration: float = 1e-6
 
     def with_rank(self, rank: float | None) -> "Tolerances":
         """Return a copy whose rank tolerance is ``rank`` (unchanged when ``None``)."""

@@ -151,3 +151,24 @@ def get(name: str) -> Mechanism:
     2
     """
     return Mechanism.from_dict(data(name), source=f"catalogue:{name}")
+
+
+# ---------------------------------------------------------------------- paths (pathsux)
+@_entry
+def peaucellier() -> dict:
+    """Peaucellier–Lipkin inversor: P moves on a straight line while the crank turns C on a circle through O.
+
+    Arms O-A, O-B (length 2.5), rhombus A-C-B-P (side √3.25), crank Q-C (length √0.5) whose
+    circle passes through the fixed pivot O.  At the model's configuration O, C, P lie on the
+    x axis, |OC|·|OP| = 1·3 = 2.5² − 3.25 (the inversion constant) and every coordinate is
+    exact in binary.  The crank is a rocker: it turns back at the two flattened poses
+    (A = B, O-A-C folded: |OC| = 2.5 − √3.25), where the rhombus collapses onto the line.
+    """
+    return {
+        "name": "Peaucellier-Lipkin inversor", "dim": 2, "fixed": ["O", "Q"],
+        "inputs": [{"rotation": "crank"}], "outputs": [{"velocity": "P"}],
+        "nodes": {"O": [0.0, 0.0], "Q": [0.5, 0.5], "C": [1.0, 0.0], "A": [2.0, 1.5], "B": [2.0, -1.5],
+                  "P": [3.0, 0.0]},
+        "links": {"crank": ["Q", "C"], "arm_a": ["O", "A"], "arm_b": ["O", "B"], "side_ac": ["A", "C"],
+                  "side_bc": ["B", "C"], "side_ap": ["A", "P"], "side_bp": ["B", "P"]},
+    }

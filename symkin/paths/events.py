@@ -20,7 +20,7 @@ from scipy.optimize import brentq, minimize_scalar
 from symkin.errors import NotConvergedError
 from symkin.paths.continuation import CurvePoint, CurveProblem, point_at, tangent
 
-__all__ = ["TestFunction", "CurveEvent", "locate_sign_change", "locate_minimum"]
+__all__ = ["TestFunction", "CurveEvent", "locate_sign_change", "locate_minimum", "refine_rank_drop"]
 
 
 @dataclass(frozen=True)
@@ -119,3 +119,56 @@ def locate_minimum(problem: CurveProblem, test: TestFunction, a: CurvePoint, b: 
 
 def _chord(p: CurvePoint, y: np.ndarray) -> float:
     return float(np.linalg.norm(y - p.y))
+
+
+def refine_rank_drop(problem: CurveProblem, y0: np.ndarray, drop: int, tol: float = 1e-14,
+                     max_iterations: int = 30) -> tuple[np.ndarray, bool]:
+    """The nearby point where the curve's Jacobian ``J`` has ``drop`` more left null vectors than it generically has.
+
+    Gauss–Newton on ``H(y) = 0``, ``J(y)ᵀ ψ_i = 0``, ``ψ_i · ψ⁰_j = δ_ij`` (``i, j = 1..drop``)
+    in the unknowns ``(y, ψ_1, …, ψ_drop)``; ``ψ⁰_j`` are the left singular vectors of the
+    ``drop`` smallest singular values at ``y0``.  With ``drop = 1`` this is a simple branch
+    point (see :func:`symkin.paths.branching.refine_singular_point`); with ``drop = 2`` it
+    finds an isolated point of a family of singular configurations where the rank drops
+    once more (paper §IV-A: the IM indicator's next eigenvalue vanishes too), e.g. the
+    flattened Peaucellier–Lipkin inversor, whose A = B configurations are all IM but only
+    one of which lies on the inversor's regular motion.  The term ``∂(Jᵀψ)/∂y`` is a
+    central difference of the Jacobian.
+
+    Returns ``(y, converged)``; ``converged`` is False when the steps did not settle.
+    """
+    y = np.array(y0, float)
+    j = problem.jacobian(y)
+    m, n = j.shape
+    u, _, _ = np.linalg.svd(j, full_matrices=True)
+    # a curve's Jacobian has rank n − 1: the left singular vectors of the ``drop`` smallest of
+    # its n − 1 generic singular values (columns past n − 1 span the redundant equations)
+    r = min(m, n - 1)
+    psi0 = u[:, r - drop: r]
+    psi = psi0.copy()
+    eps = 1e-6
+    for _ in range(max_iterations):
+        h, j = problem.residual(y), problem.jacobian(y)
+        rows = [np.hstack([j, np.zeros((m, m * drop))])]
+        res = [h]
+        for i in range(drop):
+            hess = np.empty((n, n))
+            for k in range(n):
+                e = np.zeros(n)
+                e[k] = eps
+                hess[:, k] = (problem.jacobian(y + e).T @ psi[:, i] - problem.jacobian(y - e).T @ psi[:, i]) / (2 * eps)
+            block = np.zeros((n, m * drop))
+            block[:, m * i: m * (i + 1)] = j.T
+            rows.append(np.hstack([hess, block]))
+            res.append(j.T @ psi[:, i])
+            for jj in range(drop):
+                norm_row = np.zeros(n + m * drop)
+                norm_row[n + m * i: n + m * (i + 1)] = psi0[:, jj]
+                rows.append(norm_row[None, :])
+                res.append([psi[:, i] @ psi0[:, jj] - (1.0 if i == jj else 0.0)])
+        step = np.linalg.lstsq(np.vstack(rows), -np.concatenate(res), rcond=None)[0]
+        y = y + step[:n]
+        psi = psi + step[n:].reshape(drop, m).T
+        if np.linalg.norm(step) <= tol * max(1.0, float(np.linalg.norm(y))):
+            return y, True
+    return y, False

@@ -33,8 +33,9 @@ from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.paths.branching import Bifurcation, branch_directions, refine_singular_point
 from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
-from symkin.paths.events import CurveEvent, TestFunction, locate_minimum, locate_sign_change
+from symkin.paths.events import CurveEvent, TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.paths.system import MechanismCurve, make_curve
+from symkin.tolerances import DEFAULT
 
 __all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
 
@@ -339,16 +340,71 @@ def _move_to(counted, curve, y0, target, settings) -> np.ndarray:
 
 
 _KIND_ORDER = ("IM", "DKP-input", "DKP-output")
-_MERGE = 1e-6  # events closer than this (in units of the length scale) are one configuration
+_CLOSURE = 1e-13  # located events are polished until |H| <= this (H is in units of the length scale)
 
 
 def _kind(test_name: str) -> str:
     return "IM" if test_name in ("bifurcation", "IM") else test_name
 
 
+def _nullity(problem, y: np.ndarray) -> int:
+    """Nullity of the curve's Jacobian at ``y`` at the classifier's rank tolerance (``Tolerances.rank``)."""
+    j = problem.jacobian(y)
+    s = np.linalg.svd(j, compute_uv=False)
+    top = float(s.max()) if s.size else 0.0
+    return j.shape[1] - int(np.count_nonzero(s > DEFAULT.rank * top))
+
+
+def _polish(problem, y: np.ndarray, tol: float = _CLOSURE, max_iterations: int = 8) -> np.ndarray:
+    """Project a located event onto the closure ``H(y) = 0`` (paper eq. 5, made dimensionless).
+
+    Gauss–Newton with minimum-norm steps on the well-conditioned part of the Jacobian
+    (singular values above ``Tolerances.rank`` relative to the largest): at a singular
+    configuration the near-null directions are left alone, so the point moves by the
+    least amount that closes the loop, and it does not slide along a family of singular
+    configurations.  Stops when ``|H| <= tol`` or a step no longer reduces ``|H|``.
+    """
+    y = np.array(y, float)
+    r = problem.residual(y)
+    res = float(np.linalg.norm(r))
+    for _ in range(max_iterations):
+        if res <= tol:
+            break
+        dy = np.linalg.lstsq(problem.jacobian(y), -r, rcond=DEFAULT.rank)[0]
+        r_new = problem.residual(y + dy)
+        res_new = float(np.linalg.norm(r_new))
+        if not res_new < res:
+            break
+        y, r, res = y + dy, r_new, res_new
+    return y
+
+
+def _higher_rank_drop(problem, y: np.ndarray, radius: float) -> np.ndarray:
+    """The isolated point of higher nullity next to a branch point ``y``, when there is one.
+
+    When the next singular value of the Jacobian is small as well (below ``_IM_DETECT``
+    relative to the largest) the branch point may lie on a family of singular
+    configurations that the path crosses at a point of higher nullity (Peaucellier–Lipkin
+    with A = B); :func:`~symkin.paths.events.refine_rank_drop` finds it.  It is accepted
+    only when it converged within ``radius`` of ``y`` (the length of the continuation step
+    that bracketed the event, in units of the length scale) and has a larger nullity at
+    ``Tolerances.rank``.
+    """
+    j = problem.jacobian(y)
+    n = j.shape[1]
+    s = np.sort(np.concatenate([np.linalg.svd(j, compute_uv=False), np.zeros(max(0, n - j.shape[0]))]))
+    base = _nullity(problem, y)
+    if base < 2 or base + 1 > s.size or s[base] > _IM_DETECT * s[-1]:
+        return y
+    y_hi, converged = refine_rank_drop(problem, y, base)
+    if converged and np.linalg.norm(y_hi - y) <= radius and _nullity(problem, y_hi) > base:
+        return y_hi
+    return y
+
+
 def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, settings, progress,
          branch_analysis, record: bool = True, t0: np.ndarray | None = None,
-         max_change: float | None = None) -> Path:
+         max_change: float | None = None, unit: str = "rad") -> Path:
     mech = curve.mech
     kind = curve.drive.kind
     scale_in = 1.0 if kind == "angle" else curve.scale
@@ -370,26 +426,43 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
 
     im_test = next((tf for tf in tests if tf.name == "IM"), None)
 
-    def record_event(ev: CurveEvent, ref: float) -> None:
-        y, t = ev.y, ev.t
-        name = ev.name
-        if name != "IM" and _kind(name) != "IM" and im_test is not None and im_test.f(y, t) < _NEAR_IM:
-            name = "IM"  # a DKP test that fired at (or next to) a branch point: locate the branch point
-        if _kind(name) == "IM":
-            y, _ = refine_singular_point(counted, y)
-            t = tangent(counted, y, ev.t)
-        ev = CurveEvent(name, ev.kind, y, t, ev.s, ev.value, ev.evaluations) if name != ev.name else ev
+    def record_event(ev: CurveEvent, ref: float, lo: CurvePoint, hi: CurvePoint) -> None:
+        """Refine, polish onto the closure and record (or merge) the event ``ev`` bracketed by ``lo``, ``hi``.
+
+        A DKP test that fires at (or next to) a branch point, where its determinant is
+        ill-conditioned, is relocated as the minimum of ``σ_{F+1}`` along the curve in its
+        bracket and becomes an IM event.  A branch point is refined on the extended system
+        (:func:`~symkin.paths.branching.refine_singular_point`) unless that lowers the
+        nullity of the Jacobian: on a family of singular configurations (e.g. the
+        Peaucellier–Lipkin inversor with A = B) the extended system slides along the
+        family away from the point the path crosses.  Events closer than
+        ``Tolerances.same_configuration`` are one event carrying every test that located it.
+        """
+        y, t, s = ev.y, ev.t, ev.s
+        kind_ = _kind(ev.name)
+        evaluations = ev.evaluations
+        if kind_ != "IM" and im_test is not None and im_test.f(y, t) < _NEAR_IM:
+            near = locate_minimum(counted, im_test, lo, CurvePoint(y, t, s), hi)
+            kind_ = "IM"
+            if near is not None:
+                y, t, s, evaluations = near.y, near.t, near.s, evaluations + near.evaluations
+        if kind_ == "IM":
+            y_ref, _ = refine_singular_point(counted, y)
+            if _nullity(counted, y_ref) >= _nullity(counted, y):
+                y, t = y_ref, tangent(counted, y_ref, t)
+            y = _higher_rank_drop(counted, y, float(np.linalg.norm(hi.y - lo.y)))
+        y = _polish(counted, y)
         reference["value"] = ref
         value = input_of(y)
         for item in found:
-            if np.linalg.norm(item["y"] - y) < _MERGE:
+            if np.linalg.norm(item["y"] - y) < DEFAULT.same_configuration:
                 item["tests"].append(ev.name)
-                if _KIND_ORDER.index(_kind(ev.name)) < _KIND_ORDER.index(item["kind"]):
-                    item.update(kind=_kind(ev.name), y=y, t=t, input=value)
-                item["evaluations"] += ev.evaluations
+                if _KIND_ORDER.index(kind_) < _KIND_ORDER.index(item["kind"]):
+                    item.update(kind=kind_, y=y, t=t, input=value, s=s)
+                item["evaluations"] += evaluations
                 return
-        found.append({"kind": _kind(ev.name), "y": y, "t": t, "s": ev.s, "value": ev.value, "input": value,
-                      "evaluations": ev.evaluations, "tests": [ev.name]})
+        found.append({"kind": kind_, "y": y, "t": t, "s": s, "value": ev.value, "input": value,
+                      "evaluations": evaluations, "tests": [ev.name]})
 
     end_event = None
     try:
@@ -415,7 +488,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
                         ev = locate_sign_change(counted, tf, pcp, cp)
                         # a sign change through a jump (not a zero) leaves a large value at the "root"
                         if abs(ev.value) <= _ROOT * max(abs(fa), abs(fb)) or _kind(tf.name) == "IM":
-                            record_event(ev, pvalue)
+                            record_event(ev, pvalue, pcp, cp)
                 if len(history) >= 2:
                     (a, av, _), (b, bv, bvalue) = history[-2], history[-1]
                     for tf in tests:
@@ -423,7 +496,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
                                 and bv[tf.name] <= vals[tf.name]:
                             ev = locate_minimum(counted, tf, a, b, cp)
                             if ev is not None:
-                                record_event(ev, bvalue)
+                                record_event(ev, bvalue, a, cp)
                 if (pvalue - stop) * direction < 0 <= (value - stop) * direction:
                     reference["value"] = pvalue
                     ev = locate_sign_change(counted, end_test, pcp, cp)
