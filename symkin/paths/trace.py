@@ -75,6 +75,18 @@ class PathEvent:
     tests: tuple[str, ...] = ()
 
     @property
+    def kinds(self) -> tuple[str, ...]:
+        """Every event kind that located this configuration, ``kind`` first.
+
+        ``tests`` names the test functions (``bifurcation`` and ``IM`` both locate IM
+        events); a configuration found by several of them (the flattened Peaucellier–Lipkin
+        inversor is a turning point of its crank and a branch point) is one event.
+        """
+        if self.kind == "end":
+            return ("end",)
+        return tuple(dict.fromkeys((self.kind,) + tuple(_kind(t) for t in self.tests)))
+
+    @property
     def confirmed(self) -> bool | None:
         """Whether the classifier at the located configuration finds the singularity of ``kind``.
 
@@ -128,7 +140,7 @@ class Path:
             item = {"input": num(e.input), "absolute": num(e.absolute), "s": e.s, "kind": e.kind,
                     "types": list(a.types) if a else [], "locked_links": list(a.locked_links) if a else [],
                     "dof": a.dof if a else None, "configuration": cfg(e.coordinates),
-                    "tests": list(e.tests), "confirmed": e.confirmed, "test_value": e.value,
+                    "tests": list(e.tests), "kinds": list(e.kinds), "confirmed": e.confirmed, "test_value": e.value,
                     "evaluations": e.evaluations}
             if a is not None:
                 item["analysis"] = a.to_dict()

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from symkin import Mechanism, SymkinError
@@ -113,3 +114,100 @@ def test_bad_input_and_unreachable_start():
     m2 = fourbar([0.0, 0.0], [2.0 * math.cos(1.2), 2.0 * math.sin(1.2)], [2.9, 1.9], [3.0, 0.0])
     with pytest.raises(SymkinError):
         trace(m2, start=170, stop=180, unit="deg")
+
+
+# ---------------------------------------------------------------------- events: once each, on the closure
+def link_length_error(mech, x) -> float:
+    """Largest change of a distance inside a link (bars and bodies), in units of the length scale."""
+    x0 = mech.coordinates()
+    idx = mech.node_index()
+    worst = 0.0
+    for _, nodes in mech.links:
+        for i, p in enumerate(nodes):
+            for q in nodes[i + 1:]:
+                worst = max(worst, abs(math.dist(x[idx[p]], x[idx[q]]) - math.dist(x0[p], x0[q])))
+    return worst / mech.length_scale
+
+
+def peaucellier_flat_poses():
+    """The flattened poses, by elementary geometry: O, C, A = B, P on one line with |OC| = |OA| − |AC|,
+    and C on the crank circle through O (isosceles triangle O-Q-C: angle QOC = acos(|OC| / (2|QC|)))."""
+    m = catalogue.get("peaucellier")
+    x = m.coordinates()
+    arm, side, crank = math.dist(x["O"], x["A"]), math.dist(x["A"], x["C"]), math.dist(x["Q"], x["C"])
+    oc = arm - side
+    oq = math.atan2(x["Q"][1], x["Q"][0])
+    poses = []
+    for sgn in (1, -1):
+        phi = oq + sgn * math.acos(oc / (2 * crank))
+        c = (oc * math.cos(phi), oc * math.sin(phi))
+        poses.append({"line": phi, "C": c, "crank": math.atan2(c[1] - x["Q"][1], c[0] - x["Q"][0])})
+    return m, arm, side, poses
+
+
+def test_peaucellier_flattened_pose_reported_once_on_the_closure_with_its_classification():
+    m, arm, side, poses = peaucellier_flat_poses()
+    path = trace(m, stop=360, unit="deg")
+    events = path.singular_events()
+    # the crank is a rocker between the two flattened poses: each is reported once
+    assert len(events) == 2
+    idx = m.node_index()
+    for e in events:
+        x = e.coordinates
+        assert link_length_error(m, x) <= 1e-12
+        assert float(np.linalg.norm(path.curve.residual(e.y))) <= 1e-12
+        pose = min(poses, key=lambda p: angle_diff(p["crank"], e.absolute))
+        assert angle_diff(e.absolute, pose["crank"]) < 1e-12
+        assert math.dist(x[idx["A"]], x[idx["B"]]) <= 1e-12 * m.length_scale
+        assert math.dist(x[idx["C"]], pose["C"]) <= 1e-12 * m.length_scale
+        u = np.array([math.cos(pose["line"]), math.sin(pose["line"])])
+        np.testing.assert_allclose(x[idx["P"]], (arm + side) * u, atol=1e-12 * m.length_scale)
+        # O-A-C folded: C is locked (|OC| is at its minimum and C is on the crank circle), so the crank is;
+        # A, B and P may each move perpendicular to the line: L = 3 for F = 1
+        a = e.analysis
+        assert (e.kind, a.types, a.dof, a.mobility, a.locked_links) == ("IM", ("IM", "DKP-input", "LIM"), 3, 1,
+                                                                         ("crank",))
+        assert [r.as_dict() for r in a.input_relations] == [{"rotation:crank": 1.0}]
+        # the crank is locked, so all three motions are uncontrolled; each moves A, B or P across the line
+        assert len(a.uncontrolled_motions) == 3
+        moved = set()
+        for motion in a.uncontrolled_motions:
+            v = dict(motion.velocities)
+            assert float(np.linalg.norm(v["C"])) <= 1e-9
+            for node in "ABP":
+                assert abs(float(np.dot(v[node], u))) <= 1e-9 * float(np.linalg.norm(v[node])) + 1e-15
+            moved |= {node for node in "ABP" if float(np.linalg.norm(v[node])) > 1e-9}
+        assert moved == {"A", "B", "P"}
+        # located by the turning point of the crank and by the IM test: one event carrying both
+        assert set(e.tests) == {"DKP-input", "IM"} and e.kinds == ("IM", "DKP-input")
+    assert sorted(round(math.degrees(e.absolute), 9) for e in events) == \
+        sorted(round(math.degrees(p["crank"]), 9) for p in poses)
+
+
+@pytest.mark.parametrize("name, kwargs", [
+    ("fourbar_appendix", dict(stop=360, unit="deg")),
+    ("slider_crank", dict(stop=2 * math.pi)),
+    ("rrr_3", dict(stop=360, unit="deg")),
+    ("rssr", dict(stop=360, unit="deg")),
+    ("five_bar", dict(input="rotation:crank1", stop=40, unit="deg")),
+    ("parallelogram", dict(stop=360, unit="deg")),
+    ("double rocker", dict(stop=360, unit="deg")),
+    ("peaucellier", dict(stop=360, unit="deg")),
+])
+def test_every_located_event_is_on_the_closure(name, kwargs):
+    if name == "parallelogram":
+        m = fourbar([0.0, 0.0], [0.0, 1.0], [2.0, 1.0], [2.0, 0.0], name)
+    elif name == "double rocker":
+        m = fourbar([0.0, 0.0], [2.0 * math.cos(1.2), 2.0 * math.sin(1.2)], [2.9, 1.9], [3.0, 0.0])
+    else:
+        m = catalogue.get(name)
+    path = trace(m, **kwargs)
+    assert path.events
+    ys = [e.y for e in path.singular_events()]
+    for e in path.events:
+        assert float(np.linalg.norm(path.curve.residual(e.y))) <= 1e-12, (e.kind, e.input)
+        assert link_length_error(m, e.coordinates) <= 1e-12
+    # no configuration is reported twice
+    for i, a in enumerate(ys):
+        for b in ys[i + 1:]:
+            assert float(np.linalg.norm(a - b)) > 1e-6
