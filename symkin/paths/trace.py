@@ -104,7 +104,9 @@ class Path:
     """Result of :func:`trace`.
 
     ``stop_reason`` is ``"reached"`` (the input reached its target), ``"closed"`` (a full loop
-    back to the start), ``"max_arclength"`` or ``"stuck"`` (the step size collapsed;
+    back to the start), ``"unreachable"`` (a full loop back to the start on which the input
+    turns back short of its target: ``turning_input`` / ``turning_absolute`` say where, and
+    ``message`` too), ``"max_arclength"`` or ``"stuck"`` (the step size collapsed;
     ``message`` says where).  Angles are kept in radians; :meth:`to_dict` converts.
     """
 
@@ -118,6 +120,8 @@ class Path:
     residual_evaluations: int
     node_names: tuple[str, ...] = field(repr=False, default=())
     curve: MechanismCurve | None = field(default=None, repr=False, compare=False)
+    turning_input: float | None = None
+    turning_absolute: float | None = None
 
     def singular_events(self) -> tuple[PathEvent, ...]:
         return tuple(e for e in self.events if e.kind != "end")
@@ -150,6 +154,8 @@ class Path:
             events.append(item)
         return {"mechanism": self.mechanism.name, "input": self.drive, "unit": unit if self.kind == "angle" else
                 "model length", "stop_reason": self.stop_reason, "message": self.message,
+                "turning": None if self.turning_input is None else
+                {"input": num(self.turning_input), "absolute": num(self.turning_absolute)},
                 "residual_evaluations": self.residual_evaluations, "points": points, "events": events}
 
 
@@ -318,7 +324,7 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
     _check_regular_start(curve, y0, drive_label=curve.drive.label)
     max_change = abs(stop - start) / steps if steps else None
     return _run(counted, curve, y0, start, stop, max_arclength, settings, progress, branch_analysis,
-                max_change=max_change)
+                max_change=max_change, unit=unit)
 
 
 def _check_regular_start(curve: MechanismCurve, y0: np.ndarray, drive_label: str) -> None:
@@ -545,8 +551,42 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
         if record:
             events.append(PathEvent("end", value, ev.s, curve.x_of(ev.y), None, ev.value, ev.evaluations,
                                     curve.drive.absolute(mech, curve.x_of(ev.y)), None, ev.y, ev.t, ("end",)))
+    turn = _turning(points, events, start, stop, kind) if reason == "closed" else None
+    if turn is not None:
+        reason = "unreachable"
+        absolute = "" if turn.absolute is None else f" (absolute {_format_value(turn.absolute, kind, unit)})"
+        message = (f"the input cannot reach {_format_value(stop, kind, unit)}: it turns back at "
+                   f"{_format_value(turn.input, kind, unit)}{absolute}, and the path closed on its start")
     return Path(mech, curve.drive.label, kind, tuple(points), tuple(events), reason, message, counted.total,
-                mech.node_names, curve)
+                mech.node_names, curve, None if turn is None else turn.input, None if turn is None else turn.absolute)
+
+
+def _format_value(value: float, kind: str, unit: str) -> str:
+    """An input value for a message: degrees or radians for angles, model units for lengths."""
+    if kind != "angle":
+        return f"{value:.10g} (model length units)"
+    return f"{math.degrees(value):.10g}°" if unit == "deg" else f"{value:.10g} rad"
+
+
+def _turning(points, events, start: float, stop: float, kind: str):
+    """The point (or located event) where the input turns back short of ``stop`` on a closed loop, or None.
+
+    None when the input never moves backwards, when it reaches ``stop`` somewhere on the
+    loop, or (angles) when the loop covers a full turn, so that every angle is reached.
+    The turning point is the farthest value towards ``stop``: a located DKP-input event
+    (a turning point of the input, refined to machine precision) when there is one.
+    """
+    direction = 1.0 if stop >= start else -1.0
+    progress = np.array([(p.input - start) * direction for p in points])
+    if progress.size < 3 or not np.any(np.diff(progress) < 0):
+        return None
+    if kind == "angle" and float(progress.max() - progress.min()) >= 2 * math.pi:
+        return None
+    candidates = list(points) + [e for e in events if e.kind != "end"]
+    best = max(candidates, key=lambda c: (c.input - start) * direction)
+    if (best.input - start) * direction >= (stop - start) * direction:
+        return None
+    return best
 
 
 def _point(curve, y, value, s, tests, t) -> PathPoint:

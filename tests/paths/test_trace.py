@@ -70,7 +70,8 @@ def test_double_rocker_turns_back_and_closes_the_loop():
     cpos = [bpos[0] + along * ex - h * ey, bpos[1] + along * ey + h * ex]
     m = fourbar([0.0, 0.0], bpos, cpos, [d, 0.0])
     path = trace(m, stop=360, unit="deg")
-    assert path.stop_reason == "closed"
+    # the loop closes without the crank reaching 360°: it turns back where |BD| = b + c
+    assert path.stop_reason == "unreachable" and "cannot reach 360°" in path.message
     turning = [e for e in path.singular_events() if e.kind == "DKP-input"]
     assert len(turning) >= 2
     for bd_star in (b + c,):
@@ -151,6 +152,8 @@ def test_peaucellier_flattened_pose_reported_once_on_the_closure_with_its_classi
     events = path.singular_events()
     # the crank is a rocker between the two flattened poses: each is reported once
     assert len(events) == 2
+    assert path.stop_reason == "unreachable"
+    assert min(angle_diff(path.turning_absolute, p["crank"]) for p in poses) < 1e-12
     idx = m.node_index()
     for e in events:
         x = e.coordinates
@@ -211,3 +214,37 @@ def test_every_located_event_is_on_the_closure(name, kwargs):
     for i, a in enumerate(ys):
         for b in ys[i + 1:]:
             assert float(np.linalg.norm(a - b)) > 1e-6
+
+
+def rocker_limits(m):
+    """Absolute angles of the rocker D→C where crank and coupler align (|AC| = coupler ± crank), for
+    C above the ground line A-D: the law of cosines in triangle A-C-D gives the angle at D."""
+    x = m.coordinates()
+    a, b, c = (math.dist(x[p], x[q]) for p, q in (("A", "B"), ("B", "C"), ("D", "C")))
+    d = math.dist(x["A"], x["D"])
+    return {"extended": math.pi - math.acos((c * c + d * d - (a + b) ** 2) / (2 * c * d)),
+            "folded": math.pi - math.acos((c * c + d * d - (b - a) ** 2) / (2 * c * d))}
+
+
+def test_rocker_driven_past_its_limit_is_unreachable_and_says_where_it_turns_back():
+    m = catalogue.get("fourbar_appendix")
+    x = m.coordinates()
+    start = math.atan2(x["C"][1] - x["D"][1], x["C"][0] - x["D"][0])
+    limits = rocker_limits(m)
+    # turning the rocker counter-clockwise from the model's 85.6° folds the crank onto the coupler
+    assert limits["extended"] < start < limits["folded"]
+    path = trace(m, input="rotation:rocker", stop=180, unit="deg")
+    assert path.stop_reason == "unreachable"
+    assert abs(path.turning_absolute - limits["folded"]) < 1e-9
+    assert abs(path.turning_input - (limits["folded"] - start)) < 1e-9
+    assert "the input cannot reach 180°" in path.message and "closed on its start" not in path.message[:40]
+    assert f"turns back at {math.degrees(path.turning_input):.10g}°" in path.message
+    assert f"(absolute {math.degrees(path.turning_absolute):.10g}°)" in path.message
+    data = path.to_dict("deg")
+    assert data["stop_reason"] == "unreachable"
+    assert data["turning"]["absolute"] == pytest.approx(math.degrees(limits["folded"]), abs=1e-7)
+    # the other way it turns back at the extended dead centre
+    back = trace(m, input="rotation:rocker", stop=-180, unit="deg")
+    assert back.stop_reason == "unreachable" and abs(back.turning_absolute - limits["extended"]) < 1e-9
+    # a crank that turns fully is not "unreachable": its loop closes after a full turn
+    assert trace(m, stop=720, unit="deg").stop_reason == "closed"
