@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 
@@ -120,3 +121,61 @@ def test_path_plot_writes_a_png(capsys, tmp_path):
                          "--plot", str(target), "--json")
     assert code == 0 and json.loads(out)["stop_reason"] == "reached"
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and "figure written" in err
+
+
+def test_path_driven_past_a_rocker_limit_says_it_cannot_reach_the_value(capsys):
+    from symkin.model import catalogue
+    from tests.paths.test_trace import rocker_limits
+
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    folded = math.degrees(rocker_limits(catalogue.get("fourbar_appendix"))["folded"])
+    code, out, err = run(capsys, "path", model, "--input", "rotation:rocker", "--to", "180", "--no-progress")
+    assert code == 0 and "the input cannot reach 180°: it turns back at" in out
+    assert f"(absolute {folded:.7f}°)" in out and "(a full loop)" not in out
+    code, out, _ = run(capsys, "path", model, "--input", "rotation:rocker", "--to", "180", "--json")
+    data = json.loads(out)
+    assert data["stop_reason"] == "unreachable" and data["turning"]["absolute"] == pytest.approx(folded, abs=1e-7)
+
+
+def test_path_bad_input_lists_every_accepted_label(capsys):
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    code, out, err = run(capsys, "path", model, "--to", "10", "--input", "rotation:rocker2")
+    assert code == 2 and out == "" and "Traceback" not in err
+    assert err.startswith(f"{model}: unknown input 'rotation:rocker2'; a path can be driven by ")
+    for part in ("the model's inputs (rotation:crank)", "its outputs (rotation:rocker)",
+                 "rotation:<link> for a moving link (crank, coupler, rocker)",
+                 "velocity:<node>.<x|y> for a free node (B, C)"):
+        assert part in err
+    # what the message lists is accepted
+    for label in ("rotation:rocker", "rotation:coupler", "velocity:C.y"):
+        assert run(capsys, "path", model, "--to", "1", "--input", label, "--no-progress")[0] == 0
+
+
+def test_path_errors_keep_their_class_and_data(capsys, monkeypatch):
+    import symkin.paths.trace
+    from symkin.cli import build_parser
+    from symkin.errors import ModelError, NotConvergedError, Problem
+
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    args = build_parser().parse_args(["path", model, "--to", "10", "--no-progress"])
+    problems = (Problem("links.crank", "has no moving node"), Problem("nodes.B", "is not in a link"))
+
+    def bad_model(*a, **k):
+        raise ModelError(problems)
+    monkeypatch.setattr(symkin.paths.trace, "trace", bad_model)
+    with pytest.raises(ModelError) as info:
+        args._run(args)
+    assert info.value.problems == problems and info.value.source == model
+    code, _, err = run(capsys, "path", model, "--to", "10")
+    assert code == 2 and err.splitlines() == [f"{model}: links.crank: has no moving node",
+                                              f"{model}: nodes.B: is not in a link"]
+
+    def not_converged(*a, **k):
+        raise NotConvergedError("Newton reached a residual of 0.25", residual=0.25, y=[1.0, 2.0])
+    monkeypatch.setattr(symkin.paths.trace, "trace", not_converged)
+    with pytest.raises(NotConvergedError) as info:
+        args._run(args)
+    assert info.value.data == {"residual": 0.25, "y": [1.0, 2.0]}
+    assert str(info.value) == f"{model}: Newton reached a residual of 0.25"
+    code, _, err = run(capsys, "path", model, "--to", "10")
+    assert code == 2 and err.strip() == f"{model}: Newton reached a residual of 0.25" and "Traceback" not in err

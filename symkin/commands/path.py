@@ -8,7 +8,7 @@ import math
 import sys
 
 from symkin.commands import Output
-from symkin.errors import SymkinError
+from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
 
 NAME = "path"
@@ -99,6 +99,21 @@ def _csv(path, unit: str) -> str:
     return buf.getvalue()
 
 
+def _in_file(exc: SymkinError, model: str) -> SymkinError:
+    """``exc`` itself, told which model file it concerns (the CLI prints ``file: message``).
+
+    The error keeps its class and its data (``ModelError.problems``,
+    ``NotConvergedError.data``): a :class:`ModelError` without a source gets ``model`` as
+    its source; any other error gets ``model: `` in front of its message.
+    """
+    if isinstance(exc, ModelError):
+        if exc.source is None:
+            exc.source = model
+    elif not str(exc).startswith(f"{model}: "):
+        exc.args = (f"{model}: {exc}",) + tuple(exc.args[1:])
+    return exc
+
+
 def run(args) -> Output:
     from symkin.paths.trace import trace
 
@@ -112,7 +127,7 @@ def run(args) -> Output:
         path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
                      max_arclength=args.max_arclength, progress=update, steps=args.steps)
     except SymkinError as exc:
-        raise SymkinError(f"{args.model}: {exc}") from None
+        raise _in_file(exc, args.model)
     finally:
         if bar is not None:
             bar.close()

@@ -17,7 +17,8 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 
-__all__ = ["InputCoordinate", "LinearInput", "input_coordinates", "parse_input_label", "segment_inputs"]
+__all__ = ["InputCoordinate", "LinearInput", "accepted_input_labels", "input_coordinates", "parse_input_label",
+           "segment_inputs"]
 
 
 @dataclass(frozen=True)
@@ -147,27 +148,76 @@ def input_coordinates(mech: Mechanism, params=None) -> tuple[InputCoordinate, ..
     return tuple(out)
 
 
+def _driving(mech: Mechanism, params) -> list[InputCoordinate]:
+    """The scalar coordinates of ``params`` that can drive a path (twists and the like are skipped)."""
+    out = []
+    for p in params:
+        try:
+            out += input_coordinates(mech, [p])
+        except SymkinError:
+            pass
+    return out
+
+
+def accepted_input_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
+    """What :func:`parse_input_label` accepts for ``mech``, by kind (what an error message lists).
+
+    Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
+    path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
+    (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> accepted = accepted_input_labels(get("fourbar_appendix"))
+    >>> accepted["inputs"], accepted["outputs"], accepted["rotation"]
+    (('rotation:crank',), ('rotation:rocker',), ('crank', 'coupler', 'rocker'))
+    """
+    inputs = tuple(c.label for c in input_coordinates(mech))
+    outputs = tuple(c.label for c in _driving(mech, mech.outputs) if c.label not in inputs)
+    return {"inputs": inputs, "outputs": outputs,
+            "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
+            "slide": tuple(s.id for s in mech.sliders),
+            "velocity": tuple(mech.free_nodes)}
+
+
 def parse_input_label(mech: Mechanism, label: str) -> InputCoordinate:
     """The input coordinate named ``label`` (``rotation:crank``, ``slide:piston``, ``velocity:P.x`` ...).
 
-    Matches the model's input labels first, then any rotation/slide/velocity it can build.
+    Matches the model's input labels first, then its output labels, then any rotation of a
+    moving link (planar), slide of a slider or velocity component of a free node it can
+    build (see :func:`accepted_input_labels`); an unknown label raises a
+    :class:`SymkinError` that lists what is accepted.
     """
-    for c in input_coordinates(mech):
+    for c in input_coordinates(mech) + tuple(_driving(mech, mech.outputs)):
         if c.label == label:
             return c
     kind, _, rest = label.partition(":")
     target, _, comp = rest.partition(".")
-    if kind == "rotation" and target in mech.link_names and mech.dim == 2:
+    if kind == "rotation" and target in mech.moving_links and mech.dim == 2:
         return input_coordinates(mech, [Parameter("rotation", (target,))])[0]
     if kind == "slide":
         try:
             return input_coordinates(mech, [Parameter("slide", (mech.slider(target).id,))])[0]
         except KeyError:
             pass
-    if kind == "velocity" and target in mech.node_names and comp in AXES[: mech.dim]:
+    if kind == "velocity" and target in mech.free_nodes and comp in AXES[: mech.dim]:
         return input_coordinates(mech, [Parameter("velocity", (target,), component=comp)])[0]
-    known = ", ".join(c.label for c in input_coordinates(mech)) or "none"
-    raise SymkinError(f"unknown input {label!r} (the model's inputs: {known})")
+    raise SymkinError(f"unknown input {label!r}; {_accepted_text(mech)}")
+
+
+def _accepted_text(mech: Mechanism) -> str:
+    a = accepted_input_labels(mech)
+    parts = [f"the model's inputs ({', '.join(a['inputs']) or 'none'})"]
+    if a["outputs"]:
+        parts.append(f"its outputs ({', '.join(a['outputs'])})")
+    if a["rotation"]:
+        parts.append(f"rotation:<link> for a moving link ({', '.join(a['rotation'])})")
+    if a["slide"]:
+        parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
+    if a["velocity"]:
+        parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
+    return "a path can be driven by " + "; ".join(parts)
 
 
 @dataclass(frozen=True)

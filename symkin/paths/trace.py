@@ -320,7 +320,7 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
     if res > 1e-9:
         y0, _, res = newton(counted, y0)
     if start != 0.0:
-        y0 = _move_to(counted, curve, y0, start, settings)
+        y0 = _move_to(counted, curve, y0, start, settings, unit)
     _check_regular_start(curve, y0, drive_label=curve.drive.label)
     max_change = abs(stop - start) / steps if steps else None
     return _run(counted, curve, y0, start, stop, max_arclength, settings, progress, branch_analysis,
@@ -349,9 +349,11 @@ def _initial_tangent(curve, y0, direction: float) -> np.ndarray:
     return t
 
 
-def _move_to(counted, curve, y0, target, settings) -> np.ndarray:
+def _move_to(counted, curve, y0, target, settings, unit: str = "rad") -> np.ndarray:
     """Continue from the model's configuration to input value ``target`` (no events recorded)."""
-    path = _run(counted, curve, y0, 0.0, target, None, settings, None, False, record=False)
+    path = _run(counted, curve, y0, 0.0, target, None, settings, None, False, record=False, unit=unit)
+    if path.stop_reason == "unreachable":
+        raise SymkinError(f"cannot reach the start value: {path.message}")
     if path.stop_reason != "reached":
         raise SymkinError(f"cannot reach the start value: the input turns back before it ({path.message})")
     return curve.y_of(path.points[-1].coordinates.ravel()[curve.free])

@@ -30,3 +30,31 @@ def test_values_are_measured_from_the_model():
     (c,) = input_coordinates(mech)
     curve = MechanismCurve(mech, LinearInput.single(c))
     assert curve.input_value(curve.y0()) == 0.0
+
+
+def test_every_accepted_label_parses_and_an_unknown_one_lists_them():
+    from symkin.errors import SymkinError
+    from symkin.paths.coordinates import accepted_input_labels, parse_input_label
+
+    mech = catalogue.get("slider_crank")
+    accepted = accepted_input_labels(mech)
+    assert accepted == {"inputs": ("rotation:crank",), "outputs": ("slide:piston",), "rotation": ("crank", "rod"),
+                        "slide": ("piston",), "velocity": ("B", "C")}
+    labels = list(accepted["inputs"] + accepted["outputs"]) + [f"rotation:{k}" for k in accepted["rotation"]] \
+        + [f"slide:{k}" for k in accepted["slide"]] + [f"velocity:{n}.{a}" for n in accepted["velocity"] for a in "xy"]
+    for label in labels:
+        assert parse_input_label(mech, label).label == label
+    # a fixed node's velocity, a ground or unknown link, a z component in the plane: rejected with the list
+    for bad in ("velocity:A.x", "rotation:ground", "velocity:B.z", "slide:nope", "rocker"):
+        with pytest.raises(SymkinError) as info:
+            parse_input_label(mech, bad)
+        text = str(info.value)
+        assert text.startswith(f"unknown input {bad!r}; a path can be driven by")
+        for part in ("rotation:crank", "its outputs (slide:piston)", "rotation:<link> for a moving link (crank, rod)",
+                     "slide:<slider> (piston)", "velocity:<node>.<x|y> for a free node (B, C)"):
+            assert part in text
+    # a spatial model: its outputs (rotations about fixed axes) drive a path; no planar rotation form
+    rssr = catalogue.get("rssr")
+    assert accepted_input_labels(rssr)["outputs"] == ("rotation:rocker[O2-O2b]",)
+    assert accepted_input_labels(rssr)["rotation"] == ()
+    assert parse_input_label(rssr, "rotation:rocker[O2-O2b]").kind == "angle"
