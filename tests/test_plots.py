@@ -100,8 +100,14 @@ def test_indicators_curves_follow_the_path_and_events_sit_at_the_dead_centres(fo
     closed = dead_centre_inputs(path.mechanism)
     for xe in np.radians(xs):
         assert min(abs(math.remainder(xe - c, 2 * math.pi)) for c in closed) < 1e-9
+    # labels: numbered as in the text report and the JSON, input and absolute angle (4 decimals, degrees)
     texts = [t.get_text() for t in ax.texts]
-    assert any(f"{xs[0]:.4g}°" in t and "DKP-output" in t for t in texts)
+    sing = path.singular_events()
+    for k, e in enumerate(sing, 1):
+        (label,) = [t.get_text() for t in ax.texts if t.get_gid() == f"event-label:{k}"]
+        assert label.splitlines() == [f"{k}. DKP-output", f"{math.degrees(e.input):.4f}°",
+                                      f"abs {math.degrees(e.absolute):.4f}°"]
+    assert len(texts) == len(sing)
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any("IM indicator" in lab for lab in labels) and any("DKP-output event" in lab for lab in labels)
 
@@ -281,3 +287,69 @@ def test_save_path_figures_writes_a_png_without_pyplot(fourbar_path, rssr_path, 
     assert plt.get_fignums() == before
     with pytest.raises(SymkinError, match="cannot write"):
         save_path_figures(fourbar_path, tmp_path / "missing" / "x.png")
+
+
+# ---------------------------------------------------------------------- numbered events, small multiples
+@pytest.fixture(scope="module")
+def peaucellier_path():
+    return trace(symkin.catalogue.get("peaucellier"), stop=360, unit="deg")
+
+
+def test_event_panels_draw_the_mechanism_at_each_event_with_the_same_limits(fourbar_path, peaucellier_path):
+    from symkin.plots.paths import event_label, plot_event_configurations
+
+    for path in (fourbar_path, peaucellier_path):
+        sing = path.singular_events()
+        axes = plot_event_configurations(path)
+        assert len(axes) == len(sing) == 2
+        idx = {n: k for k, n in enumerate(path.node_names)}
+        for k, (ax, e) in enumerate(zip(axes, sing), 1):
+            title = ax.get_title().splitlines()
+            assert title == [event_label(path, k, e), f"{', '.join(e.analysis.types)}; L = {e.analysis.dof}"]
+            assert title[0].startswith(f"{k}. {e.kind} at {math.degrees(e.input):.4f}°")
+            assert f"(absolute {math.degrees(e.absolute):.4f}°)" in title[0]
+            # the links are drawn at the event's configuration, not at the start
+            for name, nodes in path.mechanism.links:
+                if len(nodes) == 2:
+                    line = by_gid(ax.lines, f"link:{name}")
+                    np.testing.assert_allclose(line.get_xdata(), [e.coordinates[idx[n]][0] for n in nodes], atol=0)
+                    np.testing.assert_allclose(line.get_ydata(), [e.coordinates[idx[n]][1] for n in nodes], atol=0)
+            assert gids(ax.lines, "context-trace:")
+        # small multiples: the same limits on every panel, holding the whole path
+        assert len({(ax.get_xlim(), ax.get_ylim()) for ax in axes}) == 1
+        xyz = np.array([p.coordinates for p in path.points])
+        (x0, x1), (y0, y1) = axes[0].get_xlim(), axes[0].get_ylim()
+        assert x0 < xyz[:, :, 0].min() and xyz[:, :, 0].max() < x1
+        assert y0 < xyz[:, :, 1].min() and xyz[:, :, 1].max() < y1
+    # the Peaucellier–Lipkin flattened poses: A = B, the rhombus on the line O-C-P
+    t0 = plot_event_configurations(peaucellier_path)[0].get_title()
+    assert t0.startswith("1. IM at ") and t0.endswith("IM, DKP-input, LIM; L = 3")
+    with pytest.raises(SymkinError, match="2 singular event"):
+        fig, ax = plt.subplots()
+        plot_event_configurations(peaucellier_path, axes=[ax])
+
+
+def test_traces_number_their_events(fourbar_path):
+    ax = plot_traces(fourbar_path)
+    assert sorted(t.get_text() for t in ax.texts) == ["1. DKP-output", "2. DKP-output"]
+
+
+def test_path_figure_has_one_panel_per_event_and_says_when_the_axis_is_arclength(rrr_path, fourbar_path):
+    from symkin.plots.paths import path_figure
+
+    fig = path_figure(rrr_path)
+    top, events = fig.subfigs
+    assert len(top.axes) == 2 and len(events.axes) == len(rrr_path.singular_events()) == 4
+    assert [ax.get_title().split(" ")[0] for ax in events.axes] == ["1.", "2.", "3.", "4."]
+    indicators = top.axes[0]
+    assert "turns back" in indicators.get_xlabel() and "arclength" in indicators.get_xlabel()
+    labels = sorted(t.get_gid() for t in indicators.texts)
+    assert labels == [f"event-label:{k}" for k in (1, 2, 3, 4)]
+    # the four-bar's input is monotone: the axis is the input and says nothing of arclength
+    top, events = path_figure(fourbar_path).subfigs
+    assert "arclength" not in top.axes[0].get_xlabel() and len(events.axes) == 2
+    # no singular event: no panels, one figure
+    quiet = trace(symkin.catalogue.get("fourbar_appendix"), stop=30, unit="deg")
+    assert not quiet.singular_events()
+    fig = path_figure(quiet)
+    assert not fig.subfigs and len(fig.axes) == 2

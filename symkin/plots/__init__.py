@@ -8,10 +8,12 @@ and returns the Axes (networkx ``draw`` style):
 * :func:`plot_traces` — node traces of a path with its singular configurations (Fig. 5);
 * :func:`draw_mechanism` — a mechanism with motion-space vectors as arrows (Figs. 4, 6, 7,
   11-13);
-* :func:`save_path_figures` — indicators and traces side by side in one PNG
+* :func:`plot_event_configurations` — the mechanism at each located singular event of a
+  path, one small panel per event, same axes limits;
+* :func:`save_path_figures` — indicators, traces and the event panels in one PNG
   (``symkin path ... --plot FILE.png``).
 """
 from symkin.plots.mechanism import draw_mechanism
-from symkin.plots.paths import plot_indicators, plot_traces, save_path_figures
+from symkin.plots.paths import plot_event_configurations, plot_indicators, plot_traces, save_path_figures
 
-__all__ = ["draw_mechanism", "plot_indicators", "plot_traces", "save_path_figures"]
+__all__ = ["draw_mechanism", "plot_event_configurations", "plot_indicators", "plot_traces", "save_path_figures"]

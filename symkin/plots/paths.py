@@ -1,9 +1,12 @@
-"""Plots of a traced path: indicators with located events (Figs. 3c, 10) and node traces (Fig. 5).
+"""Plots of a traced path: indicators with located events (Figs. 3c, 10), node traces (Fig. 5)
+and the mechanism at each located singular configuration (small multiples).
 
-Both functions read a :class:`symkin.paths.trace.Path` and draw it; nothing is computed
-here but unit conversions.  :func:`save_path_figures` writes both side by side to a PNG
-(what ``symkin path ... --plot FILE.png`` writes) with matplotlib's Agg canvas, without
-touching pyplot's global state.
+Every function reads a :class:`symkin.paths.trace.Path` and draws it; nothing is computed
+here but unit conversions.  Events are numbered as in the text report and the JSON
+``events`` and labelled with the link's absolute angle where there is one
+(:func:`event_label`).  :func:`save_path_figures` writes all of them in one PNG (what
+``symkin path ... --plot FILE.png`` writes) with matplotlib's Agg canvas, without touching
+pyplot's global state.
 """
 from __future__ import annotations
 
@@ -14,9 +17,10 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.paths.trace import Path
-from symkin.plots.mechanism import coordinates, is_3d, new_axes, set_equal_3d
+from symkin.plots.mechanism import coordinates, draw_mechanism, is_3d, new_axes, set_equal_3d
 
-__all__ = ["plot_indicators", "plot_traces", "save_path_figures", "abscissa"]
+__all__ = ["plot_indicators", "plot_traces", "plot_event_configurations", "path_figure", "save_path_figures", "abscissa",
+           "event_label"]
 
 #: colour and marker of each test function and of its located events
 STYLE = {
@@ -31,6 +35,7 @@ _CURVES = (  # indicator key, style key, legend label
     ("DKP-output", "DKP-output", "DKP-output test"),
 )
 _EVENT_KINDS = ("IM", "DKP-input", "DKP-output")
+_PANELS_PER_ROW = 5  # small multiples of save_path_figures: panels per row
 _LINESTYLE = {"DKP-output": (0, (5, 2)), "bifurcation": ":"}  # dashed: visible where it overlaps DKP-input
 
 
@@ -65,7 +70,9 @@ def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray
     if x == "input" or (x == "auto" and monotone):
         return inputs, "input", f"input {path.drive} [{name}]"
     s = np.array([p.s for p in path.points], float)
-    return s, "arclength", "arclength s along the path (in model length scales)"
+    why = "the input turns back, so the axis is the" if x == "auto" else ""
+    return s, "arclength", (f"{why} arclength s along the path (in model length scales)" if why else
+                            "arclength s along the path (in model length scales)")
 
 
 def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", bifurcation: bool = False,
@@ -84,7 +91,9 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
     * with ``bifurcation=True``, the determinant of the continuation's augmented Jacobian,
       which changes sign at a simple branch point (IM);
     * every located event (kinds IM, DKP-input, DKP-output) as a marker on the zero line,
-      in the colour of its test function, annotated with its input value.
+      in the colour of its test function, annotated with its number (as in the text report
+      and the JSON ``events``), its kind, its input value and, for a planar rotation, the
+      link's absolute angle.
 
     All indicators are dimensionless, so one axis shows them together: linear by default (a
     log scale would hide the sign changes of the determinants); ``yscale="symlog"`` magnifies
@@ -141,21 +150,21 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
                 linestyle=_LINESTYLE.get(key, "-"))
     ax.axhline(0.0, color="black", linewidth=0.8, zorder=1, gid="zero")
 
-    events = [e for e in path.events if e.kind in _EVENT_KINDS]
+    numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
     for kind in _EVENT_KINDS:
-        chosen = [e for e in events if e.kind == kind]
+        chosen = [(k, e) for k, e in numbered if e.kind == kind]
         if not chosen:
             continue
-        ex = [(e.input * conv) if mode == "input" else e.s for e in chosen]
+        ex = [(e.input * conv) if mode == "input" else e.s for _, e in chosen]
         st = STYLE[kind]
         ax.plot(ex, [0.0] * len(ex), linestyle="none", marker=st["marker"], markersize=8,
                 markerfacecolor=st["colour"], markeredgecolor="black", zorder=5,
                 label=f"{kind} event{'s' if len(ex) > 1 else ''} (located)", gid=f"event:{kind}")
         if annotate:
-            for e, xe in zip(chosen, ex):
-                text = f"{kind}\n{e.input * conv:.4g}{'°' if uname == 'deg' else ''}"
-                ax.annotate(text, (xe, 0.0), xytext=(0, 12), textcoords="offset points", ha="center",
-                            fontsize=8, color=st["colour"], zorder=6,
+            for (k, e), xe in zip(chosen, ex):
+                ax.annotate(event_label(path, k, e, unit, lines=True), (xe, 0.0), xytext=(0, 12),
+                            textcoords="offset points", ha="center", fontsize=8, color=st["colour"], zorder=6,
+                            gid=f"event-label:{k}",
                             bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
     if yscale == "symlog":
         ax.set_yscale("symlog", linthresh=linthresh)
@@ -187,7 +196,8 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
         Draw the mechanism at the path's first point in light grey, fixed nodes as
         triangles.
     annotate : bool
-        Write the kind of each singular event next to its dot.
+        Write the number and kind of each singular event next to its dot (numbered as in
+        the text report and the JSON ``events``).
 
     Returns
     -------
@@ -254,12 +264,13 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
         ax.plot(*dots.T, linestyle="none", marker="o", markersize=7, color="black", zorder=5, gid="events",
                 label="singular configurations (located)")
         if annotate:
-            for e in events:
+            for k, e in enumerate(events, 1):
                 p = np.asarray(e.coordinates, float)[cols[0], :ncoord]
                 if three_d:
-                    ax.text(*p, f"  {e.kind}", fontsize=8)
+                    ax.text(*p, f"  {k}. {e.kind}", fontsize=8, gid=f"event-label:{k}")
                 else:
-                    ax.annotate(e.kind, p, xytext=(6, -10), textcoords="offset points", fontsize=8)
+                    ax.annotate(f"{k}. {e.kind}", p, xytext=(6, -10), textcoords="offset points", fontsize=8,
+                                gid=f"event-label:{k}")
 
     allp = np.vstack(everything)
     if three_d:
@@ -275,8 +286,151 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
     return ax
 
 
+def event_label(path: Path, number: int, event, unit: str = "deg", lines: bool = False) -> str:
+    """``"1. IM at 210.9225° (absolute 165.9225°)"``: an event's number, kind, input and absolute angle.
+
+    ``number`` counts the singular events from 1, as the text report and the JSON
+    ``events`` do; the absolute angle (planar rotations) is shown where there is one.
+    ``lines=True`` breaks it over three short lines for a marker's annotation.
+    """
+    conv, uname = _unit_factor(path, unit)
+    sign = "°" if uname == "deg" else (" rad" if uname == "rad" else "")
+    value = f"{event.input * conv:.4f}{sign}"
+    absolute = None
+    if event.absolute is not None:
+        absolute = f"{event.absolute * conv:.4f}{sign}"
+    if lines:
+        return f"{number}. {event.kind}\n{value}" + (f"\nabs {absolute}" if absolute else "")
+    return f"{number}. {event.kind} at {value}" + (f" (absolute {absolute})" if absolute else "")
+
+
+def _panel_limits(path: Path, three_d: bool) -> np.ndarray:
+    """(2, k) lower and upper corners around every point of the path (shared by all panels)."""
+    ncoord = 3 if three_d else 2
+    pts = np.vstack([np.asarray(p.coordinates, float)[:, :ncoord] for p in path.points]
+                    + [np.asarray(e.coordinates, float)[:, :ncoord] for e in path.events])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre, half = (lo + hi) / 2, np.maximum((hi - lo) / 2, 1e-12) * 1.1 + 0.04 * float((hi - lo).max())
+    return np.vstack([centre - half, centre + half])
+
+
+def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, traces: bool = True):
+    """Draw the mechanism at each located singular configuration, one small panel per event.
+
+    Small multiples: every panel has the same axes limits (the extent of the whole path), so
+    the panels compare at a glance; each is titled with :func:`event_label` (numbered as in
+    the text report and the JSON) and its types and DOF from the event's analysis.
+
+    Parameters
+    ----------
+    path : symkin.paths.trace.Path
+    axes : sequence of matplotlib Axes, optional
+        One per singular event; ``None`` creates a figure with a row of panels.
+    unit : {"deg", "rad"}
+        Unit of angle inputs in the titles.
+    traces : bool
+        Draw the node traces of the whole path in light grey behind each mechanism.
+
+    Returns
+    -------
+    list of matplotlib Axes
+        One per singular event (empty when there is none); each panel's links have ``gid``
+        ``link:NAME`` (:func:`~symkin.plots.mechanism.draw_mechanism`), its traces
+        ``context-trace:NODE``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import symkin
+    >>> from symkin.paths.trace import trace
+    >>> from symkin.plots.paths import plot_event_configurations
+    >>> p = trace(symkin.catalogue.get("fourbar_appendix"), stop=360, unit="deg")
+    >>> [ax.get_title().splitlines()[0] for ax in plot_event_configurations(p)]
+    ['1. DKP-output at 137.5622° (absolute -144.9667°)', '2. DKP-output at 306.0810° (absolute 23.5521°)']
+    """
+    _check(path)
+    _unit_factor(path, unit)
+    events = path.singular_events()
+    mech = path.mechanism
+    if axes is None:
+        if not events:
+            return []
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(figsize=(3.2 * len(events), 3.4), layout="constrained")
+        axes = [fig.add_subplot(1, len(events), k + 1, projection="3d" if mech.dim == 3 else None)
+                for k in range(len(events))]
+    axes = list(axes)
+    if len(axes) != len(events):
+        raise SymkinError(f"{len(events)} singular event(s) but {len(axes)} axes")
+    xyz = np.array([p.coordinates for p in path.points], float)
+    moving = [k for k, n in enumerate(path.node_names) if n not in set(mech.fixed)]
+    for k, (ax, e) in enumerate(zip(axes, events), 1):
+        three_d = is_3d(ax) and mech.dim == 3
+        ncoord = 3 if three_d else 2
+        if traces:
+            for j in moving:
+                ax.plot(*xyz[:, j, :ncoord].T, color="#d0d0d0", linewidth=1.0, zorder=0,
+                        gid=f"context-trace:{path.node_names[j]}")
+        a = e.analysis
+        detail = f"\n{', '.join(a.types) or 'regular'}; L = {a.dof}" if a is not None else ""
+        draw_mechanism(mech.with_coordinates(e.coordinates), ax=ax, labels=True,
+                       title=event_label(path, k, e, unit) + detail)
+        ax.title.set_fontsize(8)
+        lim = _panel_limits(path, three_d)
+        if three_d:
+            set_equal_3d(ax, lim)
+        else:
+            ax.set_xlim(lim[0, 0], lim[1, 0])
+            ax.set_ylim(lim[0, 1], lim[1, 1])
+            ax.set_aspect("equal", adjustable="box")
+        ax.tick_params(labelsize=7)
+    return axes
+
+
+def path_figure(path: Path, unit: str = "deg"):
+    """The figure that :func:`save_path_figures` writes, on a standalone ``Figure`` (Agg canvas).
+
+    Top: the indicators (:func:`plot_indicators`) and the node traces (:func:`plot_traces`);
+    below, in a subfigure, one small panel per singular event
+    (:func:`plot_event_configurations`), up to five per row.  pyplot is not touched.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig.subfigs`` is ``(top, events)`` when the path has singular events.
+    """
+    _check(path)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    n_ev = len(path.singular_events())
+    rows = -(-n_ev // _PANELS_PER_ROW) if n_ev else 0
+    fig = Figure(figsize=(14.0, 5.6 + 3.6 * rows), layout="constrained")
+    FigureCanvasAgg(fig)
+    top, bottom = fig.subfigures(2, 1, height_ratios=[5.6, 3.6 * rows]) if rows else (fig, None)
+    three_d = path.mechanism.dim == 3
+    left = top.add_subplot(1, 2, 1)
+    right = top.add_subplot(1, 2, 2, projection="3d" if three_d else None)
+    left.set_title("Indicators along the path", fontsize=10)
+    right.set_title("Node traces", fontsize=10)
+    plot_indicators(path, ax=left, unit=unit)
+    plot_traces(path, ax=right)
+    if rows:
+        # a few panels keep the size they have in a full row, from the left
+        columns = max(min(n_ev, _PANELS_PER_ROW), _PANELS_PER_ROW - 1)
+        panels = [bottom.add_subplot(rows, columns, k + 1, projection="3d" if three_d else None)
+                  for k in range(n_ev)]
+        plot_event_configurations(path, axes=panels, unit=unit)
+        bottom.suptitle("The mechanism at each singular configuration (same scale)", fontsize=10)
+    fig.suptitle(f"{path.mechanism.name} — driven by {path.drive}; {n_ev} singular event(s); "
+                 f"stopped: {path.stop_reason}", fontsize=11)
+    return fig
+
+
 def save_path_figures(path: Path, filename, unit: str = "deg") -> FilePath:
-    """Write one PNG with the indicators (left) and the node traces (right) of ``path``.
+    """Write :func:`path_figure` to a PNG (what ``symkin path ... --plot FILE.png`` writes).
 
     Uses matplotlib's non-interactive Agg canvas on a standalone ``Figure`` (pyplot and
     its backend are not touched), so it works headless.  ``filename`` without a suffix is
@@ -287,22 +441,8 @@ def save_path_figures(path: Path, filename, unit: str = "deg") -> FilePath:
     pathlib.Path
         The file written.
     """
-    _check(path)
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     target = FilePath(filename)
-    fig = Figure(figsize=(14.0, 5.6), layout="constrained")
-    FigureCanvasAgg(fig)
-    left = fig.add_subplot(1, 2, 1)
-    right = fig.add_subplot(1, 2, 2, projection="3d" if path.mechanism.dim == 3 else None)
-    left.set_title("Indicators along the path", fontsize=10)
-    right.set_title("Node traces", fontsize=10)
-    plot_indicators(path, ax=left, unit=unit)
-    plot_traces(path, ax=right)
-    n_ev = len(path.singular_events())
-    fig.suptitle(f"{path.mechanism.name} — driven by {path.drive}; {n_ev} singular event(s); "
-                 f"stopped: {path.stop_reason}", fontsize=11)
+    fig = path_figure(path, unit)
     try:
         fig.savefig(target, dpi=110, format=None if target.suffix else "png")
     except OSError as exc:
