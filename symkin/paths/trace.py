@@ -549,10 +549,11 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
                                 tuple(dict.fromkeys(item["tests"]))))
     if end_event is not None:
         ev, value = end_event
-        points.append(_point(curve, ev.y, value, ev.s, tests, ev.t))
+        y_end = _polish(counted, ev.y)
+        points.append(_point(curve, y_end, value, ev.s, tests, ev.t))
         if record:
-            events.append(PathEvent("end", value, ev.s, curve.x_of(ev.y), None, ev.value, ev.evaluations,
-                                    curve.drive.absolute(mech, curve.x_of(ev.y)), None, ev.y, ev.t, ("end",)))
+            events.append(PathEvent("end", value, ev.s, curve.x_of(y_end), None, ev.value, ev.evaluations,
+                                    curve.drive.absolute(mech, curve.x_of(y_end)), None, y_end, ev.t, ("end",)))
     turn = _turning(points, events, start, stop, kind) if reason == "closed" else None
     if turn is not None:
         reason = "unreachable"
@@ -622,7 +623,7 @@ def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float =
     value1 = curve.input_value(y1)
     target = stop * conv if stop is not None else value1 + (1e9 if curve.drive_rate(y1, direction) >= 0 else -1e9)
     t1 = tangent(counted, y1, direction)
-    sub = _run(counted, curve, y1, value1, target, max_arclength, settings, None, True, t0=t1)
+    sub = _run(counted, curve, y1, value1, target, max_arclength, settings, None, True, t0=t1, unit=unit)
     tests = _test_functions(curve, y1)
     first = _point(curve, ev.y, ev.input, 0.0, tests, direction)
     return replace(sub, points=(first,) + sub.points)
