@@ -248,3 +248,18 @@ def test_rocker_driven_past_its_limit_is_unreachable_and_says_where_it_turns_bac
     assert back.stop_reason == "unreachable" and abs(back.turning_absolute - limits["extended"]) < 1e-9
     # a crank that turns fully is not "unreachable": its loop closes after a full turn
     assert trace(m, stop=720, unit="deg").stop_reason == "closed"
+
+
+@pytest.mark.parametrize("factor", [1024.0, 1.0 / 1024.0])
+def test_peaucellier_events_do_not_depend_on_the_unit_of_length(factor):
+    _, _, _, poses = peaucellier_flat_poses()
+    data = catalogue.data("peaucellier")
+    data["nodes"] = {n: [factor * v for v in c] for n, c in data["nodes"].items()}
+    m = Mechanism.from_dict(data)
+    path = trace(m, stop=360, unit="deg")
+    events = path.singular_events()
+    assert path.stop_reason == "unreachable" and len(events) == 2
+    for e in events:
+        assert (e.analysis.types, e.analysis.dof) == (("IM", "DKP-input", "LIM"), 3)
+        assert min(angle_diff(e.absolute, p["crank"]) for p in poses) < 1e-12
+        assert link_length_error(m, e.coordinates) <= 1e-12
