@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from symkin.analysis.motion_space import MotionSpace, motion_space
+from symkin.analysis.relations import Relation, canonical_relations
 from symkin.model.mechanism import Mechanism, Parameter
 from symkin.numeric.linalg import left_null_space, rank_and_null_space, rref
 from symkin.tolerances import DEFAULT, Tolerances
@@ -31,33 +32,6 @@ from symkin.tolerances import DEFAULT, Tolerances
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
 
 TYPES = ("IM", "DKP-input", "DKP-output", "LIM", "constraint")
-
-
-@dataclass(frozen=True)
-class Relation:
-    """A dependency ``Σ γ_k q_k = 0`` among kinematic parameters (eq. 13), physical units.
-
-    ``coefficients`` pairs each label with its γ (the pivot's γ is 1); ``r`` is the number
-    of parameters involved.
-    """
-
-    coefficients: tuple[tuple[str, float], ...]
-
-    @property
-    def r(self) -> int:
-        return len(self.coefficients)
-
-    def as_dict(self) -> dict[str, float]:
-        return dict(self.coefficients)
-
-    def __str__(self) -> str:
-        terms = []
-        for k, (label, c) in enumerate(self.coefficients):
-            sign = "-" if c < 0 else "+"
-            mag = abs(c)
-            coef = "" if math.isclose(mag, 1.0, rel_tol=1e-9) else f"{mag:.6g}·"
-            terms.append(f"{'-' if sign == '-' else ''}{coef}{label}" if k == 0 else f" {sign} {coef}{label}")
-        return "".join(terms) + " = 0"
 
 
 @dataclass(frozen=True)
@@ -151,16 +125,7 @@ def _relations(m: np.ndarray, norms: np.ndarray, labels, tol: float) -> tuple[Re
     """Canonical (reduced row echelon) relations among the rows of ``m``, physical units."""
     if m.shape[0] == 0:
         return ()
-    gamma = left_null_space(m, tol)  # (k, k - rank), dimensionless
-    if gamma.shape[1] == 0:
-        return ()
-    r, pivots = rref(gamma.T, max(tol, 1e-12))
-    out = []
-    for row, p in zip(r, pivots):
-        phys = row / norms * norms[p]
-        coeffs = tuple((labels[k], float(phys[k])) for k in range(len(labels)) if row[k] != 0.0)
-        out.append(Relation(coeffs))
-    return tuple(out)
+    return canonical_relations(left_null_space(m, tol), labels, tol, norms)
 
 
 def _canonical_motions(b: np.ndarray, tol: float) -> np.ndarray:
