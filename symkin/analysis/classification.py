@@ -10,11 +10,16 @@ every rank is scale invariant):
   space, in reduced row echelon form over the parameters' order.
 * **DKP-output** — ``rank(outputs) < min(F, n_out)`` (eqs. 16-17).
 * **LIM** — a non-ground link whose free nodes cannot move for any motion (zero rows of
-  V, hence of Ω; §IV-B-3).
+  V, hence of Ω; §IV-B-3), evaluated only when the mechanism has mobility to lose
+  (``F ≥ 1`` and ``L > 0``).  A structure (``F = 0``) is singular only when it has a flex
+  (``L > 0``: IM); its motionless links and nodes are still listed in ``locked_links`` /
+  ``locked_nodes`` (every link of a rigid structure), as data, not as a singularity.
 * **constraint** — the platform's DOF (rank of its twist rows) exceeds its generic DOF.
 
 Gosselin–Angeles and Zlatanov types are derived from the same subspaces (see
-:func:`analyze`).
+:func:`analyze`).  Every analysis also reports the self-stresses and redundant constraints
+(:mod:`symkin.analysis.statics`) and warnings about odd models
+(:mod:`symkin.model.diagnostics`).
 """
 from __future__ import annotations
 
@@ -25,6 +30,8 @@ import numpy as np
 
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.analysis.relations import Relation, canonical_relations
+from symkin.analysis.statics import self_stresses
+from symkin.model.diagnostics import mobility_warning, topology_warnings
 from symkin.model.mechanism import Mechanism, Parameter
 from symkin.numeric.linalg import left_null_space, rank_and_null_space, rref
 from symkin.tolerances import DEFAULT, Tolerances
@@ -77,6 +84,14 @@ class Analysis:
     gosselin_angeles: str | None
     zlatanov: tuple[str, ...]
     motion: MotionSpace = field(repr=False, compare=False)
+    redundant_constraints: int = 0
+    self_stresses: tuple[Relation, ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def structure(self) -> bool:
+        """``True`` for a structure (full-cycle mobility F = 0): rigid, or flexible when L > 0."""
+        return self.mobility == 0
 
     @property
     def singular(self) -> bool:
@@ -109,6 +124,9 @@ class Analysis:
             "tolerance": self.tolerance, "threshold": self.threshold,
             "margin": self.margin if self.margin is not None and math.isfinite(self.margin) else None,
             "gosselin_angeles": self.gosselin_angeles, "zlatanov": list(self.zlatanov),
+            "redundant_constraints": self.redundant_constraints,
+            "self_stresses": rels(self.self_stresses),
+            "warnings": list(self.warnings),
         }
 
 
@@ -197,7 +215,7 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     locked_nodes = tuple(n for n in mech.node_names if n not in fixed and speeds[n] <= t)
     locked_links = tuple(name for name in mech.moving_links
                          if all(speeds[n] <= t for n in mech.link_nodes(name) if n not in fixed))
-    if locked_links:
+    if locked_links and f >= 1 and L > 0:  # LIM needs mobility to lose (issue 7 §1)
         types.append("LIM")
 
     platform_dof = generic = None
@@ -248,6 +266,11 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         below = ms.threshold / s[L - 1] if L > 0 and s[L - 1] > ms.threshold * 1e-300 else math.inf
         margin = float(min(above, below))
 
+    statics = self_stresses(mech, tolerances, ms)
+    warnings = topology_warnings(mech)
+    if (w := mobility_warning(mech, L)) is not None:
+        warnings += (w,)
+
     return Analysis(
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),
         input_labels=lab_in, output_labels=lab_out,
@@ -258,4 +281,6 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         platform=mech.platform, platform_dof=platform_dof, platform_dof_generic=generic,
         platform_relations=pf_rel, im_indicator=ms.im_indicator(f), singular_values=shown,
         tolerance=t, threshold=float(ms.threshold), margin=margin,
-        gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms)
+        gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms,
+        redundant_constraints=statics.redundant_constraints, self_stresses=statics.self_stresses,
+        warnings=warnings)

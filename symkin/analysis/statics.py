@@ -1,0 +1,197 @@
+"""Statics, the dual of the motion space: self-stresses and redundant constraints.
+
+The motion space (paper §IV, eqs. 8-10) is the right null space of the reduced
+constraint matrix ``J`` (free coordinates only; ``G = Jᵀ J``, eq. 3).  Its left null
+space holds the **self-stresses**: row weights ``ω`` with ``ωᵀ J = 0``, forces in the
+constraints that balance at every free node with no load applied.  Each independent
+self-stress is one **redundant constraint** — the paper's method "facilitates the choice
+of actuators and redundant devices" (§I); a parallelogram with a third parallel crank or
+a Bennett linkage carries them in every configuration, a structure at a special
+geometry (collinear bars) gains one.
+
+Bar rows are unit vectors (+u at node i, −u at node j, ``u`` from i to j), so the weight
+of a bar row is the bar's axial force, tension positive, up to the common factor of the
+stress.
+
+What is *not* a redundant constraint of the mechanism, and is excluded:
+
+* rows that touch no free coordinate (a bar between two fixed nodes, a ground link):
+  they carry the ground's own forces;
+* stresses supported inside a single rigid body: a planar body of n ≥ 4 nodes is
+  modelled by its n(n−1)/2 pair rows of rank 2n − 3 (spatial: 3n − 6), a degenerate
+  (collinear / coplanar) body by pair rows plus rigidity rows; a body is rigid whatever
+  rows model it, so these stresses are modelling artefacts;
+* the second copy of a node pair shared by two bodies (two spatial bodies sharing two
+  nodes form a revolute pair, README "Pairs"; both bodies keep the pair's distance):
+  the stress "one copy against the other" is an artefact of the same kind.
+
+The reported stresses span the part of the left null space orthogonal to these
+artefacts; the count is ``m − rank(J) − (artefacts)`` with ``m`` the rows touching a
+free coordinate.  The rank threshold is the motion space's own (``tol · σ_max``,
+:mod:`symkin.tolerances`), so ``rank(J) = n_free − L`` always holds and the count is
+scale invariant.
+
+Constraint labels (one per row): a bar link → its name (``coupler``); a pair inside a
+body → ``body[N1-N2]``; the rigidity rows of a degenerate body → ``body:rigidity[k]``
+(k = 1, 2, … in the body's row order); a slider → ``slider:<id>`` (``slider:<id>[k]``
+when it has several rows: a line in space).
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from symkin.analysis.motion_space import MotionSpace, motion_space
+from symkin.analysis.relations import Relation, canonical_relations
+from symkin.model.mechanism import Mechanism
+from symkin.numeric.geometric_matrix import constraint_rows, free_mask
+from symkin.numeric.linalg import left_null_space
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["Statics", "self_stresses", "constraint_labels"]
+
+_PAIR = re.compile(r"^link (?P<link>.+) \((?P<a>[^()]+)-(?P<b>[^()]+)\)$")
+_RIGIDITY = re.compile(r"^link (?P<link>.+) \(rigidity out of its hull\)$")
+_SLIDER = re.compile(r"^slider (?P<id>.+)$")
+
+
+@dataclass(frozen=True)
+class Statics:
+    """Result of :func:`self_stresses`.
+
+    Attributes
+    ----------
+    redundant_constraints : int
+        Number of independent self-stresses (modelling artefacts excluded).
+    self_stresses : tuple of Relation
+        One per independent self-stress, ``{constraint label: coefficient}``, canonical
+        (reduced row echelon over the rows' order, pivot 1, exact zeros).
+    artefacts : int
+        Number of excluded stresses internal to the rows that model rigid bodies.
+    """
+
+    redundant_constraints: int
+    self_stresses: tuple[Relation, ...]
+    artefacts: int
+
+
+def constraint_labels(mech: Mechanism, owners) -> tuple[str, ...]:
+    """Labels of the constraint rows (see module docstring) from their ``owners``.
+
+    >>> from symkin.model.catalogue import get
+    >>> from symkin.numeric.geometric_matrix import constraint_rows
+    >>> m = get("slider_crank")
+    >>> constraint_labels(m, constraint_rows(m).owners)
+    ('crank', 'rod', 'slider:piston')
+    """
+    sizes = {name: len(ns) for name, ns in mech.links}
+    counts: dict[str, int] = {}
+    for o in owners:
+        counts[o] = counts.get(o, 0) + 1
+    seen: dict[str, int] = {}
+    out = []
+    for o in owners:
+        seen[o] = seen.get(o, 0) + 1
+        k = seen[o]
+        if m := _PAIR.match(o):
+            link = m["link"]
+            out.append(link if sizes.get(link) == 2 else f"{link}[{m['a']}-{m['b']}]")
+        elif m := _RIGIDITY.match(o):
+            out.append(f"{m['link']}:rigidity[{k}]")
+        elif m := _SLIDER.match(o):
+            out.append(f"slider:{m['id']}" if counts[o] == 1 else f"slider:{m['id']}[{k}]")
+        else:  # a new kind of row in the core: keep its owner as the label
+            out.append(o if counts[o] == 1 else f"{o}[{k}]")
+    return tuple(out)
+
+
+def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float) -> np.ndarray:
+    """Stresses (columns, over the rows of ``jr``) internal to the rows modelling bodies.
+
+    Only links of 3+ nodes are bodies: a bar is one constraint, and two bars (or a bar and
+    a body) on the same node pair are a real redundancy.
+    """
+    body_links = {name for name, ns in mech.links if len(ns) >= 3}
+    bodies: dict[str, list[int]] = {}
+    pairs: dict[frozenset, list[tuple[int, tuple[str, str]]]] = {}
+    for r, o in enumerate(owners):
+        if (m := _PAIR.match(o)) and m["link"] in body_links:
+            bodies.setdefault(m["link"], []).append(r)
+            pairs.setdefault(frozenset((m["a"], m["b"])), []).append((r, (m["a"], m["b"])))
+        elif m := _RIGIDITY.match(o):
+            bodies.setdefault(m["link"], []).append(r)
+    cols = []
+    for rows in bodies.values():
+        if len(rows) < 2:
+            continue
+        inside = left_null_space(jr[rows], threshold)
+        for c in range(inside.shape[1]):
+            v = np.zeros(jr.shape[0])
+            v[rows] = inside[:, c]
+            cols.append(v)
+    body_of = {r: _PAIR.match(owners[r])["link"] for group in pairs.values() for r, _ in group}
+    for group in pairs.values():
+        (r0, ab0), rest = group[0], group[1:]
+        for r, ab in rest:
+            if body_of[r] == body_of[r0]:
+                continue
+            v = np.zeros(jr.shape[0])
+            v[r0], v[r] = 1.0, (-1.0 if ab == ab0 else 1.0)  # equal rows, or opposite ones
+            cols.append(v / np.sqrt(2.0))
+    return np.array(cols).T.reshape(jr.shape[0], len(cols))
+
+
+def _orthonormal_range(a: np.ndarray, tol: float) -> np.ndarray:
+    """Orthonormal basis (columns) of the range of ``a``; relative threshold ``tol``."""
+    if a.shape[1] == 0:
+        return a
+    u, s, _ = np.linalg.svd(a, full_matrices=False)
+    return u[:, : int(np.count_nonzero(s > tol * s[0]))]
+
+
+def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
+                  motion: MotionSpace | None = None) -> Statics:
+    """Self-stresses and redundant constraints of ``mech`` at its configuration.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    tolerances : Tolerances
+        The rank threshold is ``tolerances.rank · σ_max`` of the reduced ``J``, the motion
+        space's (see the module docstring for what is excluded and why).
+    motion : MotionSpace, optional
+        The motion space already computed for ``mech`` (its threshold is reused).
+
+    Returns
+    -------
+    Statics
+
+    Examples
+    --------
+    A parallelogram four-bar with a third parallel crank carries one self-stress: crank
+    forces 1, −2, 1 (moment balance of the coupler, the cranks 2 apart):
+
+    >>> from symkin.model.catalogue import get
+    >>> st = self_stresses(get("double_parallelogram"))
+    >>> force = st.self_stresses[0].as_dict()
+    >>> st.redundant_constraints, [round(force[c], 9) for c in ("crank", "middle", "rocker")]
+    (1, [1.0, -2.0, 1.0])
+    """
+    ms = motion if motion is not None else motion_space(mech, tolerances)
+    rows = constraint_rows(mech, tolerances)
+    jf = rows.matrix[:, free_mask(mech)]
+    touching = np.flatnonzero(np.any(jf != 0.0, axis=1))
+    jr = jf[touching]
+    owners = tuple(rows.owners[r] for r in touching)
+    labels = constraint_labels(mech, rows.owners)
+    labels = tuple(labels[r] for r in touching)
+    if jr.shape[0] == 0:
+        return Statics(0, (), 0)
+    threshold = ms.threshold
+    artefacts = _orthonormal_range(_artefact_vectors(mech, owners, jr, threshold), tolerances.rank)
+    stresses = left_null_space(np.hstack([jr, artefacts]), threshold)
+    relations = canonical_relations(stresses, labels, tolerances.rank)
+    return Statics(redundant_constraints=stresses.shape[1], self_stresses=relations,
+                   artefacts=artefacts.shape[1])
