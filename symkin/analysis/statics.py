@@ -170,14 +170,14 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
 
     Examples
     --------
-    A parallelogram four-bar with a third parallel crank carries one self-stress: crank
-    forces 1, −2, 1 (moment balance of the coupler, the cranks 2 apart):
+    A parallelogram four-bar with a third parallel crank carries one self-stress; the
+    crank forces balance the coupler (sum and moment of three parallel forces):
 
     >>> from symkin.model.catalogue import get
     >>> st = self_stresses(get("double_parallelogram"))
     >>> force = st.self_stresses[0].as_dict()
     >>> st.redundant_constraints, [round(force[c], 9) for c in ("crank", "middle", "rocker")]
-    (1, [1.0, -2.0, 1.0])
+    (1, [1.0, 3.0, -4.0])
     """
     ms = motion if motion is not None else motion_space(mech, tolerances)
     rows = constraint_rows(mech, tolerances)

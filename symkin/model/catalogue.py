@@ -207,16 +207,17 @@ def collinear_truss() -> dict:
 
 @_entry
 def double_parallelogram() -> dict:
-    """Parallelogram four-bar with a third parallel crank E-F on a rigid coupler B-C-F (F = 1).
+    """Three parallel, equal cranks A-B, D-C, E-F carrying a triangular coupler B-C-F (F = 1).
 
-    Grübler: 5 links, 6 revolutes, ``3·4 − 2·6 = 0`` < F = 1: one redundant constraint.
-    The coupler is a collinear three-node body (its rigidity row is a modelling artefact).
+    The coupler is the ground triangle A-D-E translated by the crank vector (0.5, 1), so
+    it translates on a circle.  Grübler: 5 links, 6 revolutes, ``3·4 − 2·6 = 0`` < F = 1:
+    one redundant constraint.
     """
     return {
         "name": "double parallelogram (redundant third crank)", "dim": 2, "fixed": ["A", "D", "E"],
         "mobility": 1, "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
-        "nodes": {"A": [0.0, 0.0], "D": [2.0, 0.0], "E": [4.0, 0.0],
-                  "B": [0.5, 1.0], "C": [2.5, 1.0], "F": [4.5, 1.0]},
+        "nodes": {"A": [0.0, 0.0], "D": [2.0, 0.0], "E": [1.0, -1.0],
+                  "B": [0.5, 1.0], "C": [2.5, 1.0], "F": [1.5, 0.0]},
         "links": {"crank": ["A", "B"], "middle": ["D", "C"], "rocker": ["E", "F"],
                   "coupler": ["B", "C", "F"]},
     }
