@@ -35,6 +35,14 @@ Constraint labels (one per row): a bar link → its name (``coupler``); a pair i
 body → ``body[N1-N2]``; the rigidity rows of a degenerate body → ``body:rigidity[k]``
 (k = 1, 2, … in the body's row order); a slider → ``slider:<id>`` (``slider:<id>[k]``
 when it has several rows: a line in space).
+
+Canonical form: the stresses are put in reduced row echelon form over the rows in the
+core's order (links, then sliders), except that the rows whose weight depends on the
+frame (rigidity rows, the rows of a slider on a line in space: :func:`frame_dependent`)
+come last, so that pivots fall on bars whenever they can.  The coefficients of
+frame-independent rows then do not change under a rigid motion or a change of units;
+those of frame-dependent rows may change sign or mix (they are forces along normals that
+symkin chose).
 """
 from __future__ import annotations
 
@@ -50,7 +58,7 @@ from symkin.numeric.geometric_matrix import constraint_rows, free_mask
 from symkin.numeric.linalg import left_null_space
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["Statics", "self_stresses", "constraint_labels"]
+__all__ = ["Statics", "self_stresses", "constraint_labels", "frame_dependent"]
 
 _PAIR = re.compile(r"^link (?P<link>.+) \((?P<a>[^()]+)-(?P<b>[^()]+)\)$")
 _RIGIDITY = re.compile(r"^link (?P<link>.+) \(rigidity out of its hull\)$")
@@ -107,6 +115,19 @@ def constraint_labels(mech: Mechanism, owners) -> tuple[str, ...]:
     return tuple(out)
 
 
+def frame_dependent(label: str) -> bool:
+    """Whether a constraint row's weight depends on the frame (a normal chosen by symkin).
+
+    A degenerate body's rigidity rows and the two rows of a slider on a line in space use
+    normals that symkin picks (any orthonormal basis of the normal space would do), so
+    their coefficients turn with the frame; bars, body pairs and one-row sliders do not.
+
+    >>> frame_dependent("coupler[B-C]"), frame_dependent("platform:rigidity[1]"), frame_dependent("slider:s[2]")
+    (False, True, True)
+    """
+    return ":rigidity[" in label or (label.startswith("slider:") and label.endswith("]"))
+
+
 def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float) -> np.ndarray:
     """Stresses (columns, over the rows of ``jr``) internal to the rows modelling bodies.
 
@@ -115,11 +136,11 @@ def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float)
     """
     body_links = {name for name, ns in mech.links if len(ns) >= 3}
     bodies: dict[str, list[int]] = {}
-    pairs: dict[frozenset, list[tuple[int, tuple[str, str]]]] = {}
+    pairs: dict[frozenset, list[int]] = {}
     for r, o in enumerate(owners):
         if (m := _PAIR.match(o)) and m["link"] in body_links:
             bodies.setdefault(m["link"], []).append(r)
-            pairs.setdefault(frozenset((m["a"], m["b"])), []).append((r, (m["a"], m["b"])))
+            pairs.setdefault(frozenset((m["a"], m["b"])), []).append(r)
         elif m := _RIGIDITY.match(o):
             bodies.setdefault(m["link"], []).append(r)
     cols = []
@@ -131,14 +152,10 @@ def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float)
             v = np.zeros(jr.shape[0])
             v[rows] = inside[:, c]
             cols.append(v)
-    body_of = {r: _PAIR.match(owners[r])["link"] for group in pairs.values() for r, _ in group}
     for group in pairs.values():
-        (r0, ab0), rest = group[0], group[1:]
-        for r, ab in rest:
-            if body_of[r] == body_of[r0]:
-                continue
+        for r in group[1:]:  # a bar row does not depend on the pair's order: the copies are equal
             v = np.zeros(jr.shape[0])
-            v[r0], v[r] = 1.0, (-1.0 if ab == ab0 else 1.0)  # equal rows, or opposite ones
+            v[group[0]], v[r] = 1.0, -1.0
             cols.append(v / np.sqrt(2.0))
     return np.array(cols).T.reshape(jr.shape[0], len(cols))
 
@@ -192,6 +209,7 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
     threshold = ms.threshold
     artefacts = _orthonormal_range(_artefact_vectors(mech, owners, jr, threshold), tolerances.rank)
     stresses = left_null_space(np.hstack([jr, artefacts]), threshold)
-    relations = canonical_relations(stresses, labels, tolerances.rank)
+    order = sorted(range(len(labels)), key=lambda r: frame_dependent(labels[r]))  # stable
+    relations = canonical_relations(stresses[order], [labels[r] for r in order], tolerances.rank)
     return Statics(redundant_constraints=stresses.shape[1], self_stresses=relations,
                    artefacts=artefacts.shape[1])
