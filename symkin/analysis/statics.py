@@ -27,9 +27,10 @@ What is *not* a redundant constraint of the mechanism, and is excluded:
 
 The reported stresses span the part of the left null space orthogonal to these
 artefacts; the count is ``m − rank(J) − (artefacts)`` with ``m`` the rows touching a
-free coordinate.  The rank threshold is the motion space's own (``tol · σ_max``,
-:mod:`symkin.tolerances`), so ``rank(J) = n_free − L`` always holds and the count is
-scale invariant.
+free coordinate.  The rank is the motion space's own decision, ``rank(J) = n_free − L``
+(threshold ``tol · σ_max``, :mod:`symkin.tolerances`), so statics and kinematics never
+disagree and the count is scale invariant; when ``m = n_free − L`` there is no stress and
+nothing more is computed.
 
 Constraint labels (one per row): a bar link → its name (``coupler``); a pair inside a
 body → ``body[N1-N2]``; the rigidity rows of a degenerate body → ``body:rigidity[k]``
@@ -48,6 +49,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -94,7 +96,13 @@ def constraint_labels(mech: Mechanism, owners) -> tuple[str, ...]:
     >>> constraint_labels(m, constraint_rows(m).owners)
     ('crank', 'rod', 'slider:piston')
     """
-    sizes = {name: len(ns) for name, ns in mech.links}
+    return _labels(tuple((name, len(ns)) for name, ns in mech.links), tuple(owners))
+
+
+@lru_cache(maxsize=1024)
+def _labels(sizes: tuple, owners: tuple) -> tuple[str, ...]:
+    """Cached on the topology: a mechanism moved along a path keeps its owners."""
+    sizes = dict(sizes)
     counts: dict[str, int] = {}
     for o in owners:
         counts[o] = counts.get(o, 0) + 1
@@ -134,18 +142,22 @@ def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float)
     Only links of 3+ nodes are bodies: a bar is one constraint, and two bars (or a bar and
     a body) on the same node pair are a real redundancy.
     """
-    body_links = {name for name, ns in mech.links if len(ns) >= 3}
+    size = {name: len(ns) for name, ns in mech.links}
     bodies: dict[str, list[int]] = {}
     pairs: dict[frozenset, list[int]] = {}
+    degenerate = set()
     for r, o in enumerate(owners):
-        if (m := _PAIR.match(o)) and m["link"] in body_links:
+        if (m := _PAIR.match(o)) and size[m["link"]] >= 3:
             bodies.setdefault(m["link"], []).append(r)
             pairs.setdefault(frozenset((m["a"], m["b"])), []).append(r)
         elif m := _RIGIDITY.match(o):
             bodies.setdefault(m["link"], []).append(r)
+            degenerate.add(m["link"])
     cols = []
-    for rows in bodies.values():
-        if len(rows) < 2:
+    for name, rows in bodies.items():
+        # a simplex (n ≤ dim + 1 nodes spanning their hull: no rigidity rows) has independent
+        # pair rows, also once some of its nodes are fixed: no internal stress to look for
+        if len(rows) < 2 or (size[name] <= mech.dim + 1 and name not in degenerate):
             continue
         inside = left_null_space(jr[rows], threshold)
         for c in range(inside.shape[1]):
@@ -198,18 +210,25 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
     """
     ms = motion if motion is not None else motion_space(mech, tolerances)
     rows = constraint_rows(mech, tolerances)
-    jf = rows.matrix[:, free_mask(mech)]
+    free = free_mask(mech)
+    jf = rows.matrix[:, free]
     touching = np.flatnonzero(np.any(jf != 0.0, axis=1))
+    rank = int(np.count_nonzero(free)) - ms.dof  # the motion space's own rank decision
+    count = touching.size - rank
+    if count <= 0:  # the common case: no stress at all, nothing more to compute
+        return Statics(0, (), 0)
     jr = jf[touching]
     owners = tuple(rows.owners[r] for r in touching)
     labels = constraint_labels(mech, rows.owners)
     labels = tuple(labels[r] for r in touching)
-    if jr.shape[0] == 0:
-        return Statics(0, (), 0)
-    threshold = ms.threshold
-    artefacts = _orthonormal_range(_artefact_vectors(mech, owners, jr, threshold), tolerances.rank)
-    stresses = left_null_space(np.hstack([jr, artefacts]), threshold)
+    u = np.linalg.svd(jr, full_matrices=True)[0]
+    stresses = u[:, rank:]  # left null space: the last m − rank left singular vectors
+    artefacts = _orthonormal_range(_artefact_vectors(mech, owners, jr, ms.threshold), tolerances.rank)
+    if artefacts.shape[1]:
+        keep = max(count - artefacts.shape[1], 0)
+        rest = stresses - artefacts @ (artefacts.T @ stresses)  # orthogonal to the artefacts
+        stresses = np.linalg.svd(rest, full_matrices=False)[0][:, :keep]
     order = sorted(range(len(labels)), key=lambda r: frame_dependent(labels[r]))  # stable
     relations = canonical_relations(stresses[order], [labels[r] for r in order], tolerances.rank)
     return Statics(redundant_constraints=stresses.shape[1], self_stresses=relations,
-                   artefacts=artefacts.shape[1])
+                   artefacts=count - stresses.shape[1])
