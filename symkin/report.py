@@ -88,7 +88,7 @@ def _statics_sentences(a) -> list[str]:
     """Redundant constraints and their self-stresses (forces up to a common factor, tension +)."""
     k = a.redundant_constraints
     if k == 0:
-        return ["No self-stress: the structure is statically determinate."] if a.mobility == 0 and a.dof == 0 else []
+        return ["No self-stress: the structure is statically determinate."] if a.structure and a.dof == 0 else []
     labels = [label for r in a.self_stresses for label, _ in r.coefficients]
     bars = all("[" not in x and ":" not in x for x in labels)
     # the link (or slider) that owns each row: coupler[B-C] → coupler, slider:s → slider s
@@ -102,7 +102,7 @@ def _statics_sentences(a) -> list[str]:
 
 
 def _sentences(a) -> list[str]:
-    out = _structure_sentences(a) if a.mobility == 0 else _mechanism_sentences(a)
+    out = _structure_sentences(a) if a.structure else _mechanism_sentences(a)
     if a.platform is not None:
         msg = f"The platform (link {a.platform}) has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
         msg += "; this exceeds the generic DOF: constraint singularity." if "constraint" in a.types else "."
@@ -120,7 +120,7 @@ def _sentences(a) -> list[str]:
             if m.moves_platform is not None:
                 flags.append("moves the platform" if m.moves_platform else "does not move the platform")
             out.append(f"  motion {k}: " + ", ".join(moving) + (f" — {'; '.join(flags)}" if flags else ""))
-    if a.mobility != 0 and (a.gosselin_angeles or a.zlatanov):
+    if not a.structure and (a.gosselin_angeles or a.zlatanov):
         parts = []
         if a.gosselin_angeles:
             parts.append(f"Gosselin–Angeles {a.gosselin_angeles}")

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -88,3 +89,39 @@ def test_cli_json_of_a_structure(tmp_path, capsys):
     assert data["singular"] is False and data["types"] == [] and data["dof"] == 0
     assert data["redundant_constraints"] == 1 and data["warnings"] == []
     assert set(data["self_stresses"][0]) == {"BC", "CD", "DA", "AC", "BD"}
+
+
+def _prism(theta: float) -> Mechanism:
+    """Triangular tensegrity prism as bars: bottom b0-b2 fixed, top turned by ``theta``; the
+    verticals v_i join b_i-t_i, the struts s_i join b_i-t_{i+1} (they span theta + 120°)."""
+    nodes, links = {}, {}
+    for i in range(3):
+        a = 2 * math.pi * i / 3
+        nodes[f"b{i}"] = [math.cos(a), math.sin(a), 0.0]
+        nodes[f"t{i}"] = [math.cos(a + theta), math.sin(a + theta), 1.0]
+    for i in range(3):
+        j = (i + 1) % 3
+        links.update({f"b{i}b{j}": [f"b{i}", f"b{j}"], f"t{i}t{j}": [f"t{i}", f"t{j}"],
+                      f"v{i}": [f"b{i}", f"t{i}"], f"s{i}": [f"b{i}", f"t{j}"]})
+    return Mechanism.from_dict({"dim": 3, "mobility": 0, "fixed": ["b0", "b1", "b2"],
+                                "nodes": nodes, "links": links})
+
+
+def test_a_tensegrity_prism_at_a_generic_twist_is_rigid_and_not_singular():
+    """9 free coordinates, 9 rows touching them: statically determinate at a generic twist."""
+    a = analyze(_prism(math.pi / 4))
+    assert (a.dof, a.types, a.redundant_constraints) == (0, (), 0)
+
+
+def test_the_tensegrity_prism_flexes_where_its_struts_span_150_degrees():
+    """The prism's known equilibrium (Kenner, Connelly): top turned so that the struts span
+    150° (= 90° + 180°/3).  There it has an infinitesimal flex and a self-stress — the prestress
+    with every cable (top triangle, verticals) of one sign and every strut of the other."""
+    a = analyze(_prism(math.pi / 6))
+    assert (a.dof, a.types, a.redundant_constraints) == (1, ("IM",), 1)
+    stress = a.self_stresses[0].as_dict()
+    cables = [stress[k] for k in ("t0t1", "t1t2", "t2t0", "v0", "v1", "v2")]
+    struts = [stress[k] for k in ("s0", "s1", "s2")]
+    sign = math.copysign(1.0, cables[0])
+    assert all(sign * c > 0 for c in cables) and all(sign * s < 0 for s in struts)
+    assert struts == pytest.approx([struts[0]] * 3, rel=1e-9)  # the prism's threefold symmetry
