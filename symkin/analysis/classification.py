@@ -56,7 +56,13 @@ class Motion:
 
 @dataclass(frozen=True)
 class Analysis:
-    """Result of :func:`analyze`; read it, print it with :mod:`symkin.report`, or ``to_dict()``."""
+    """Result of :func:`analyze`; read it, print it with :mod:`symkin.report`, or ``to_dict()``.
+
+    Besides the classification: ``redundant_constraints`` and ``self_stresses`` (the statics
+    of the configuration, :func:`symkin.analysis.statics.self_stresses`) and ``warnings``
+    (sentences about an odd but legal model, :mod:`symkin.model.diagnostics`; empty when
+    nothing is odd).
+    """
 
     name: str
     dim: int
