@@ -29,7 +29,27 @@ def _rank_sentence(which: str, labels, rank: int, f: int, dkp: bool) -> str:
             f"{n - rank} relation(s) among them hold as expected:")
 
 
-def _sentences(a) -> list[str]:
+def _plural(k: int, word: str) -> str:
+    return f"{k} {word}" + ("" if k == 1 else "es" if word.endswith("x") else "s")
+
+
+def _structure_sentences(a) -> list[str]:
+    """A structure (F = 0): rigid, or flexible with L infinitesimal flexes; no inputs or outputs."""
+    L = a.dof
+    if L == 0:
+        out = ["The structure is rigid (L = 0, no infinitesimal flex): the configuration is not singular."]
+    else:
+        out = [f"The structure is flexible: {_plural(L, 'infinitesimal flex')} (L = {L} > F = 0); "
+               "the configuration is singular: increased mobility (IM)."]
+    if a.im_indicator is not None:
+        out.append(f"Rigidity indicator (smallest eigenvalue λ_1 of the reduced geometric matrix): "
+                   f"{a.im_indicator:.6g}.")
+    if L and a.locked_links:
+        out.append(f"Links that no flex moves: {', '.join(a.locked_links)}.")
+    return out
+
+
+def _mechanism_sentences(a) -> list[str]:
     out = []
     f, L = a.mobility, a.dof
     if a.types:
@@ -57,6 +77,32 @@ def _sentences(a) -> list[str]:
         out.append(f"Locked links (no motion whatever the inputs): {', '.join(a.locked_links)}.")
     if a.locked_nodes:
         out.append(f"Motionless free nodes: {', '.join(a.locked_nodes)}.")
+    return out
+
+
+def _stress(rel) -> str:
+    return ", ".join(f"{label} {c:+.4g}" for label, c in rel.coefficients)
+
+
+def _statics_sentences(a) -> list[str]:
+    """Redundant constraints and their self-stresses (forces up to a common factor, tension +)."""
+    k = a.redundant_constraints
+    if k == 0:
+        return ["No self-stress: the structure is statically determinate."] if a.structure and a.dof == 0 else []
+    labels = [label for r in a.self_stresses for label, _ in r.coefficients]
+    bars = all("[" not in x and ":" not in x for x in labels)
+    # the link (or slider) that owns each row: coupler[B-C] → coupler, slider:s → slider s
+    owners = dict.fromkeys(x.replace("slider:", "slider ").split("[")[0].split(":rigidity")[0] for x in labels)
+    where = ("bars " if bars else "") + ", ".join(owners)
+    head = f"{_plural(k, 'redundant constraint')}: " + (f"a self-stress in {where}" if k == 1 else
+                                                          f"{k} independent self-stresses in {where}")
+    out = [head + " (forces up to a common factor, tension positive):"]
+    out += [f"  self-stress {n}: {_stress(r)}" for n, r in enumerate(a.self_stresses, 1)]
+    return out
+
+
+def _sentences(a) -> list[str]:
+    out = _structure_sentences(a) if a.structure else _mechanism_sentences(a)
     if a.platform is not None:
         msg = f"The platform (link {a.platform}) has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
         msg += "; this exceeds the generic DOF: constraint singularity." if "constraint" in a.types else "."
@@ -74,7 +120,7 @@ def _sentences(a) -> list[str]:
             if m.moves_platform is not None:
                 flags.append("moves the platform" if m.moves_platform else "does not move the platform")
             out.append(f"  motion {k}: " + ", ".join(moving) + (f" — {'; '.join(flags)}" if flags else ""))
-    if a.gosselin_angeles or a.zlatanov:
+    if not a.structure and (a.gosselin_angeles or a.zlatanov):
         parts = []
         if a.gosselin_angeles:
             parts.append(f"Gosselin–Angeles {a.gosselin_angeles}")
@@ -85,6 +131,8 @@ def _sentences(a) -> list[str]:
     margin = "∞" if a.margin is None or a.margin == float("inf") else f"{a.margin:.3g}"
     out.append(f"Decision: singular values of the constraint matrix (smallest first) {sv}; "
                f"zero below {a.threshold:.3g} (tolerance {a.tolerance:g} × largest); margin ×{margin}.")
+    out += _statics_sentences(a)
+    out += [f"Warning: {w}" for w in a.warnings]
     return out
 
 

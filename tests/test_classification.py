@@ -177,8 +177,9 @@ def test_relations_carry_physical_units():
                                                               rel=1e-12)
 
 
-def test_lim_when_a_link_cannot_move():
-    """A dyad pinned on a line through both ground pivots with the joints aligned: LIM of both bars."""
+def test_a_dyad_between_two_pivots_is_a_structure_not_lim():
+    """A dyad between two ground pivots is a structure (F = 0): flexible (IM) with its joints
+    aligned; rigid, motionless links listed as data but NOT LIM, otherwise (issue 7 §1)."""
     m = Mechanism.from_dict({"dim": 2, "fixed": ["A", "C"], "nodes": {"A": [0, 0], "B": [1, 0], "C": [3, 0]},
                              "links": {"ab": ["A", "B"], "bc": ["B", "C"]}})
     r = analyze(m)
@@ -186,7 +187,7 @@ def test_lim_when_a_link_cannot_move():
     assert r.dof == 1 and r.types == ("IM",)
     m2 = m.with_coordinates({"B": (1.0, 1.0)})
     r2 = analyze(m2)
-    assert r2.dof == 0 and r2.types == ("LIM",) and r2.locked_links == ("ab", "bc")
+    assert r2.dof == 0 and r2.types == () and r2.locked_links == ("ab", "bc") and not r2.singular
 
 
 def test_tolerance_override_changes_a_near_miss():

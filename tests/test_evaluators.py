@@ -288,7 +288,17 @@ def test_bad_configuration_shape_is_a_user_error(evs):
 
 
 # ---------------------------------------------------------------------- indicators
-@pytest.mark.parametrize("name", names())
+_UNCERTIFIED = pytest.mark.xfail(strict=True, reason="λ_{F+1} of an overconstrained mechanism with a "
+                                 "triangular coupler is not certified by the Sturm counts at a regular "
+                                 "configuration (the batch then takes the exact path, which agrees)")
+
+
+_ISOLATED = pytest.mark.skip(reason="a flexible structure closes at an isolated, degenerate point (tangent "
+                               "circles): there are no closed configurations nearby to sample")
+_MARKS = {"double_parallelogram": _UNCERTIFIED, "collinear_truss": _ISOLATED}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=_MARKS[n]) if n in _MARKS else n for n in names()])
 def test_indicators_equal_the_cores_quantities(name, evs):
     """im = the core's λ_{F+1}; |dkp| = product of singular values of the core's restricted rows."""
     ev = evs[name]
@@ -304,10 +314,12 @@ def test_indicators_equal_the_cores_quantities(name, evs):
             assert abs(lam - a.im_indicator) <= 1e-14 * trace
             continue
         assert lam == pytest.approx(a.im_indicator, rel=1e-10)
-        assert abs(ind["dkp_input"][k, 0]) == pytest.approx(
-            _restricted_sv_product(a, ev.mech.inputs), rel=1e-9, abs=1e-13)
-        assert abs(ind["dkp_output"][k, 0]) == pytest.approx(
-            _restricted_sv_product(a, ev.mech.outputs), rel=1e-9, abs=1e-13)
+        for key, params in (("dkp_input", ev.mech.inputs), ("dkp_output", ev.mech.outputs)):
+            if min(a.mobility, sum(p.size(ev.mech.dim) for p in params)) == 0:
+                # a structure (F = 0) or no parameters: the DKP value is not defined (NaN)
+                assert np.isnan(ind[key][k, 0])
+                continue
+            assert abs(ind[key][k, 0]) == pytest.approx(_restricted_sv_product(a, params), rel=1e-9, abs=1e-13)
 
 
 @pytest.mark.parametrize("name", ["rrr_3", "five_bar", "rssr", "slider_crank"])

@@ -120,15 +120,28 @@ def test_fourbar_in_nodal_coordinates_is_a_cross_product():
 
 
 # ---------------------------------------------------------------------- agreement with the core
-CASES = [(name, mode) for name in catalogue.names()
+# too large for the symbolic forms (Bennett: 52416 minors, refused with a SymkinError, tested below) or
+# for the suite's time (the 14-coordinate Pratt truss: ~1 min; the braced square covers trusses)
+TOO_LARGE = {"bennett", "pratt_truss"}
+SLOW = {"double_parallelogram"}
+CASES = [pytest.param(name, mode, id=f"{name}-{mode}", marks=[pytest.mark.slow] if name in SLOW else [])
+         for name in catalogue.names() if name not in TOO_LARGE
          for mode in (("nodes", "angles") if catalogue.get(name).dim == 2 else ("nodes",))]
 
 
-@pytest.mark.parametrize("name,mode", CASES, ids=[f"{n}-{m}" for n, m in CASES])
+def test_a_mechanism_too_large_for_the_symbolic_forms_is_refused_with_a_message():
+    sm = symbolic_model(catalogue.get("bennett"), coordinates="nodes")
+    with pytest.raises(SymkinError, match="too large"):
+        sm.im_condition()
+
+
+@pytest.mark.parametrize("name,mode", CASES)
 def test_conditions_equal_numeric_core(name, mode):
     mech = catalogue.get(name)
     sm = symbolic_model(mech, coordinates=mode, design_symbols=(mode == "angles"))
-    conds = {"IM": sm.im_condition(), "input": sm.dkp_condition("input"), "output": sm.dkp_condition("output")}
+    # a structure has no inputs or outputs: its DKP conditions are refused (SymkinError), only IM applies
+    conds = {"IM": sm.im_condition(), **{which: sm.dkp_condition(which) for which, params in
+                                         (("input", mech.inputs), ("output", mech.outputs)) if params}}
     signed = mech.dim == 2 or not mech.sliders
     rng = np.random.default_rng(5)
     xyz = np.array([p for _, p in mech.nodes])
@@ -139,6 +152,8 @@ def test_conditions_equal_numeric_core(name, mode):
         scale = float(np.abs(geometric_matrix(moved, reduced=True)).max()) ** 2
         assert close(conds["IM"].evaluate(values), numeric_im(moved), scale)
         for which, params in (("input", mech.inputs), ("output", mech.outputs)):
+            if not params:
+                continue
             value = conds[which].evaluate(values)
             assert close(value if signed else abs(value), numeric_dkp(moved, params, signed), scale), which
         # every readable form equals its factor

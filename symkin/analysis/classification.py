@@ -10,11 +10,16 @@ every rank is scale invariant):
   space, in reduced row echelon form over the parameters' order.
 * **DKP-output** — ``rank(outputs) < min(F, n_out)`` (eqs. 16-17).
 * **LIM** — a non-ground link whose free nodes cannot move for any motion (zero rows of
-  V, hence of Ω; §IV-B-3).
+  V, hence of Ω; §IV-B-3), evaluated only when the mechanism has mobility to lose
+  (``F ≥ 1`` and ``L > 0``).  A structure (``F = 0``) is singular only when it has a flex
+  (``L > 0``: IM); its motionless links and nodes are still listed in ``locked_links`` /
+  ``locked_nodes`` (every link of a rigid structure), as data, not as a singularity.
 * **constraint** — the platform's DOF (rank of its twist rows) exceeds its generic DOF.
 
 Gosselin–Angeles and Zlatanov types are derived from the same subspaces (see
-:func:`analyze`).
+:func:`analyze`).  Every analysis also reports the self-stresses and redundant constraints
+(:mod:`symkin.analysis.statics`) and warnings about odd models
+(:mod:`symkin.model.diagnostics`).
 """
 from __future__ import annotations
 
@@ -24,6 +29,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from symkin.analysis.motion_space import MotionSpace, motion_space
+from symkin.analysis.relations import Relation, canonical_relations
+from symkin.analysis.statics import self_stresses
+from symkin.model.diagnostics import mobility_warning, topology_warnings
 from symkin.model.mechanism import Mechanism, Parameter
 from symkin.numeric.linalg import left_null_space, rank_and_null_space, rref
 from symkin.tolerances import DEFAULT, Tolerances
@@ -31,33 +39,6 @@ from symkin.tolerances import DEFAULT, Tolerances
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
 
 TYPES = ("IM", "DKP-input", "DKP-output", "LIM", "constraint")
-
-
-@dataclass(frozen=True)
-class Relation:
-    """A dependency ``Σ γ_k q_k = 0`` among kinematic parameters (eq. 13), physical units.
-
-    ``coefficients`` pairs each label with its γ (the pivot's γ is 1); ``r`` is the number
-    of parameters involved.
-    """
-
-    coefficients: tuple[tuple[str, float], ...]
-
-    @property
-    def r(self) -> int:
-        return len(self.coefficients)
-
-    def as_dict(self) -> dict[str, float]:
-        return dict(self.coefficients)
-
-    def __str__(self) -> str:
-        terms = []
-        for k, (label, c) in enumerate(self.coefficients):
-            sign = "-" if c < 0 else "+"
-            mag = abs(c)
-            coef = "" if math.isclose(mag, 1.0, rel_tol=1e-9) else f"{mag:.6g}·"
-            terms.append(f"{'-' if sign == '-' else ''}{coef}{label}" if k == 0 else f" {sign} {coef}{label}")
-        return "".join(terms) + " = 0"
 
 
 @dataclass(frozen=True)
@@ -75,7 +56,13 @@ class Motion:
 
 @dataclass(frozen=True)
 class Analysis:
-    """Result of :func:`analyze`; read it, print it with :mod:`symkin.report`, or ``to_dict()``."""
+    """Result of :func:`analyze`; read it, print it with :mod:`symkin.report`, or ``to_dict()``.
+
+    Besides the classification: ``redundant_constraints`` and ``self_stresses`` (the statics
+    of the configuration, :func:`symkin.analysis.statics.self_stresses`) and ``warnings``
+    (sentences about an odd but legal model, :mod:`symkin.model.diagnostics`; empty when
+    nothing is odd).
+    """
 
     name: str
     dim: int
@@ -103,6 +90,14 @@ class Analysis:
     gosselin_angeles: str | None
     zlatanov: tuple[str, ...]
     motion: MotionSpace = field(repr=False, compare=False)
+    redundant_constraints: int = 0
+    self_stresses: tuple[Relation, ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def structure(self) -> bool:
+        """``True`` for a structure (full-cycle mobility F = 0): rigid, or flexible when L > 0."""
+        return self.mobility == 0
 
     @property
     def singular(self) -> bool:
@@ -135,6 +130,9 @@ class Analysis:
             "tolerance": self.tolerance, "threshold": self.threshold,
             "margin": self.margin if self.margin is not None and math.isfinite(self.margin) else None,
             "gosselin_angeles": self.gosselin_angeles, "zlatanov": list(self.zlatanov),
+            "redundant_constraints": self.redundant_constraints,
+            "self_stresses": rels(self.self_stresses),
+            "warnings": list(self.warnings),
         }
 
 
@@ -151,16 +149,7 @@ def _relations(m: np.ndarray, norms: np.ndarray, labels, tol: float) -> tuple[Re
     """Canonical (reduced row echelon) relations among the rows of ``m``, physical units."""
     if m.shape[0] == 0:
         return ()
-    gamma = left_null_space(m, tol)  # (k, k - rank), dimensionless
-    if gamma.shape[1] == 0:
-        return ()
-    r, pivots = rref(gamma.T, max(tol, 1e-12))
-    out = []
-    for row, p in zip(r, pivots):
-        phys = row / norms * norms[p]
-        coeffs = tuple((labels[k], float(phys[k])) for k in range(len(labels)) if row[k] != 0.0)
-        out.append(Relation(coeffs))
-    return tuple(out)
+    return canonical_relations(left_null_space(m, tol), labels, tol, norms)
 
 
 def _canonical_motions(b: np.ndarray, tol: float) -> np.ndarray:
@@ -232,7 +221,7 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     locked_nodes = tuple(n for n in mech.node_names if n not in fixed and speeds[n] <= t)
     locked_links = tuple(name for name in mech.moving_links
                          if all(speeds[n] <= t for n in mech.link_nodes(name) if n not in fixed))
-    if locked_links:
+    if locked_links and f >= 1 and L > 0:  # LIM needs mobility to lose (issue 7 §1)
         types.append("LIM")
 
     platform_dof = generic = None
@@ -283,6 +272,11 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         below = ms.threshold / s[L - 1] if L > 0 and s[L - 1] > ms.threshold * 1e-300 else math.inf
         margin = float(min(above, below))
 
+    statics = self_stresses(mech, tolerances, ms)
+    warnings = topology_warnings(mech)
+    if (w := mobility_warning(mech, L)) is not None:
+        warnings += (w,)
+
     return Analysis(
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),
         input_labels=lab_in, output_labels=lab_out,
@@ -293,4 +287,6 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         platform=mech.platform, platform_dof=platform_dof, platform_dof_generic=generic,
         platform_relations=pf_rel, im_indicator=ms.im_indicator(f), singular_values=shown,
         tolerance=t, threshold=float(ms.threshold), margin=margin,
-        gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms)
+        gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms,
+        redundant_constraints=statics.redundant_constraints, self_stresses=statics.self_stresses,
+        warnings=warnings)

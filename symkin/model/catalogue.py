@@ -54,7 +54,7 @@ def fourbar_dead_centre() -> dict:
 def fourbar_flat() -> dict:
     """Four-bar with all four joints on a line (IM: L = 2)."""
     return {
-        "name": "flattened four-bar (increased mobility)", "dim": 2, "fixed": ["A", "D"],
+        "name": "flattened four-bar (increased mobility)", "dim": 2, "fixed": ["A", "D"], "mobility": 1,
         "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
         "nodes": {"A": [0.0, 0.0], "B": [1.0, 0.0], "C": [3.0, 0.0], "D": [4.0, 0.0]},
         "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]},
@@ -171,4 +171,105 @@ def peaucellier() -> dict:
                   "P": [3.0, 0.0]},
         "links": {"crank": ["Q", "C"], "arm_a": ["O", "A"], "arm_b": ["O", "B"], "side_ac": ["A", "C"],
                   "side_bc": ["B", "C"], "side_ap": ["A", "P"], "side_bp": ["B", "P"]},
+    }
+
+
+# ---------------------------------------------------------------------- structures and overconstrained
+# mechanisms (statics: self-stresses, redundant constraints; issue 7)
+@_entry
+def braced_square() -> dict:
+    """Unit square with both diagonals, pinned at A and B: a rigid structure with one self-stress.
+
+    Sides in tension ``s``, diagonals in compression ``−√2 s`` (equilibrium at a corner:
+    ``s (1, 0) + s (0, 1) + d (1, 1)/√2 = 0``).  Bar A-B joins two fixed nodes: the ground
+    carries its force, so the stress is reported on the other five bars.
+    """
+    return {
+        "name": "braced square (both diagonals)", "dim": 2, "fixed": ["A", "B"], "mobility": 0,
+        "nodes": {"A": [0.0, 0.0], "B": [1.0, 0.0], "C": [1.0, 1.0], "D": [0.0, 1.0]},
+        "links": {"AB": ["A", "B"], "BC": ["B", "C"], "CD": ["C", "D"], "DA": ["D", "A"],
+                  "AC": ["A", "C"], "BD": ["B", "D"]},
+    }
+
+
+@_entry
+def pratt_truss() -> dict:
+    """Four-panel Pratt truss on a pin (L0) and a roller (L4): statically determinate, rigid.
+
+    8 joints, 13 bars, 3 support reactions: ``13 + 3 = 2·8`` and the truss is rigid, so
+    no self-stress and no flex.
+    """
+    nodes = {f"L{k}": [2.0 * k, 0.0] for k in range(5)}
+    nodes.update({f"U{k}": [2.0 * k, 2.0] for k in (1, 2, 3)})
+    links = {f"L{k}L{k + 1}": [f"L{k}", f"L{k + 1}"] for k in range(4)}
+    links.update({"U1U2": ["U1", "U2"], "U2U3": ["U2", "U3"], "L0U1": ["L0", "U1"], "L4U3": ["L4", "U3"]})
+    links.update({f"U{k}L{k}": [f"U{k}", f"L{k}"] for k in (1, 2, 3)})
+    links.update({"U1L2": ["U1", "L2"], "U3L2": ["U3", "L2"]})
+    return {
+        "name": "Pratt truss, pin and roller", "dim": 2, "fixed": ["L0"], "mobility": 0,
+        "nodes": nodes, "links": links,
+        "sliders": [{"id": "roller", "node": "L4", "point": [8.0, 0.0], "direction": [1.0, 0.0]}],
+    }
+
+
+@_entry
+def collinear_truss() -> dict:
+    """Two bars A-B-C on one line between fixed A and C: a structure with a flex (IM).
+
+    Node B can move normal to the line to first order (L = 1, F = 0) and the two bars
+    carry one self-stress (equal tensions).
+    """
+    return {
+        "name": "two collinear bars between fixed nodes", "dim": 2, "fixed": ["A", "C"], "mobility": 0,
+        "nodes": {"A": [0.0, 0.0], "B": [1.0, 0.0], "C": [2.0, 0.0]},
+        "links": {"AB": ["A", "B"], "BC": ["B", "C"]},
+    }
+
+
+@_entry
+def double_parallelogram() -> dict:
+    """Three parallel, equal cranks A-B, D-C, E-F carrying a triangular coupler B-C-F (F = 1).
+
+    The coupler is the ground triangle A-D-E translated by the crank vector (0.5, 1), so
+    it translates on a circle.  Grübler: 5 links, 6 revolutes, ``3·4 − 2·6 = 0`` < F = 1:
+    one redundant constraint.
+    """
+    return {
+        "name": "double parallelogram (redundant third crank)", "dim": 2, "fixed": ["A", "D", "E"],
+        "mobility": 1, "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
+        "nodes": {"A": [0.0, 0.0], "D": [2.0, 0.0], "E": [1.0, -1.0],
+                  "B": [0.5, 1.0], "C": [2.5, 1.0], "F": [1.5, 0.0]},
+        "links": {"crank": ["A", "B"], "middle": ["D", "C"], "rocker": ["E", "F"],
+                  "coupler": ["B", "C", "F"]},
+    }
+
+
+@_entry
+def bennett() -> dict:
+    """Bennett linkage: a spatial 4R loop (F = 1) that Grübler–Kutzbach gives −2.
+
+    The common normals of the four axes form a skew isogram A-B-C-D (opposite sides
+    equal: C, D are A, B turned by 180° about z) and each axis is normal to the two sides
+    meeting at its vertex.  Each revolute is two nodes on its axis (A, A2, ...); A-D is
+    ground (axes A and D fixed).  Integer coordinates: every row is exact.
+    """
+    a, b = (2.0, 1.0, 1.0), (1.0, -2.0, -1.0)
+    c, d = (-a[0], -a[1], a[2]), (-b[0], -b[1], b[2])
+
+    def axis(p, q, r, step):  # second node on the axis at p, normal to p→q and p→r
+        u = [q[k] - p[k] for k in range(3)]
+        v = [r[k] - p[k] for k in range(3)]
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        return [p[k] + step * n[k] for k in range(3)]
+
+    # the axes at B and D meet on the z axis: different steps keep B2 and D2 apart
+    nodes = {"A": list(a), "A2": axis(a, b, d, 0.25), "B": list(b), "B2": axis(b, c, a, 0.125),
+             "C": list(c), "C2": axis(c, d, b, 0.25), "D": list(d), "D2": axis(d, a, c, 0.25)}
+    return {
+        "name": "Bennett linkage", "dim": 3, "fixed": ["A", "A2", "D", "D2"], "mobility": 1,
+        "inputs": [{"rotation": "link1", "axis": ["A", "A2"]}],
+        "outputs": [{"rotation": "link3", "axis": ["D", "D2"]}],
+        "nodes": nodes,
+        "links": {"link1": ["A", "A2", "B", "B2"], "link2": ["B", "B2", "C", "C2"],
+                  "link3": ["C", "C2", "D", "D2"]},
     }
