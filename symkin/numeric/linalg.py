@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["svd_null_space", "rank_and_null_space", "left_null_space", "rref", "normal_basis",
-           "affine_hull"]
+           "affine_hull", "independent_rows"]
 
 
 def svd_null_space(a: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray, int]:
@@ -103,3 +103,37 @@ def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.nda
     scale = s[0] if s.size and s[0] > 0 else 1.0
     h = int(np.count_nonzero(s > tol * scale))
     return h, vt[:h], vt[h:]
+
+
+def independent_rows(a: np.ndarray, tol: float, count: int | None = None) -> tuple[int, ...]:
+    """The first independent rows of ``a`` in row order (greedy), at most ``count`` of them.
+
+    Row ``i`` is kept when its component orthogonal to the rows kept before it has norm
+    ``> tol · max_k ‖a_k‖`` (Gram-Schmidt, orthogonalised twice).  The choice depends only
+    on which leading sets of rows are independent, so at generic configurations of a
+    mechanism it depends on its topology and not on the configuration: this is the one
+    choice of the independent constraint rows ``J_S`` (evaluators, :func:`symkin.analyze`,
+    paths) and of the rows a square corrector keeps.  ``len(result)`` is the rank of ``a``
+    when ``count`` is None.
+
+    >>> independent_rows(np.array([[1.0, 0.0], [2.0, 0.0], [0.0, 3.0]]), 1e-8)
+    (0, 2)
+    """
+    a = np.asarray(a, dtype=float)
+    if a.size == 0:
+        return ()
+    floor = tol * float(np.max(np.linalg.norm(a, axis=1)))
+    basis: list[np.ndarray] = []
+    kept: list[int] = []
+    for i, row in enumerate(a):
+        if count is not None and len(kept) >= count:
+            break
+        r = row.copy()
+        for _ in range(2):
+            for b in basis:
+                r -= (b @ r) * b
+        nr = float(np.linalg.norm(r))
+        if nr > floor and nr > 0.0:
+            basis.append(r / nr)
+            kept.append(i)
+    return tuple(kept)
