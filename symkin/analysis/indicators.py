@@ -128,7 +128,8 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
     ``det[J_S; P̂] / sqrt(det(J_S J_Sᵀ))``, which equals ``±det(P̂ V)``: signed, changes sign
     through a DKP configuration (a turning point of the input when F = 1).  Otherwise the
     product of the ``min(k, F)`` singular values ``restricted`` of ``P̂ V`` (non-negative).
-    NaN when ``k = 0``.
+    NaN when ``k = 0``.  Where ``J_S`` loses rank (IM) the value means nothing; the
+    division is floored at the smallest normal float so that it stays finite there.
 
     Examples
     --------
@@ -155,7 +156,8 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
         return np.full(lead, np.nan)
     if k == mobility and js is not None and js.shape[-2] + k == p_hat.shape[-1]:
         js = np.asarray(js, dtype=float)
-        vol = np.sqrt(np.linalg.det(js @ np.swapaxes(js, -1, -2))) if js.shape[-2] else np.ones(lead)
+        gram = np.linalg.det(js @ np.swapaxes(js, -1, -2)) if js.shape[-2] else np.ones(lead)
+        vol = np.sqrt(np.maximum(gram, np.finfo(float).tiny))  # J_S rank-deficient only at IM
         return np.linalg.det(np.concatenate([np.broadcast_to(js, lead + js.shape[-2:]), p_hat], axis=-2)) / vol
     s = np.asarray(restricted, dtype=float)
     return np.prod(s[..., : min(k, mobility)], axis=-1)
