@@ -11,9 +11,9 @@ Every numerical decision in symkin (a rank, a zero eigenvalue, a zero row) compa
   motion space, whose basis is orthonormal; a restricted row or singular value counts as
   zero when it is ``<= tol``.
 * Independent rows (the rows ``J_S`` that the motion space and the signed DKP values are
-  built from, the rows a square corrector keeps) are chosen greedily in row order: a row
-  is kept when its component orthogonal to the rows kept before it is larger than
-  ``rank · max_row_norm`` (:func:`symkin.numeric.linalg.independent_rows`).
+  built from, the rows a square corrector keeps) are chosen by QR with column pivoting;
+  the rank counts the diagonal entries ``|R_kk| > rank · |R_00|``
+  (:func:`symkin.numeric.linalg.independent_rows`).
 * Events along a path (:func:`symkin.trace`) are accepted with thresholds that are
   multiples of ``rank`` (see :attr:`Tolerances.event`), and then classified by
   :func:`symkin.analyze` with the same ``rank``.
@@ -47,13 +47,13 @@ class Tolerances:
         coincident nodes), in units of the model's length scale.
     event : float
         Ratio of the path-event threshold to ``rank``: a located minimum of the IM test
-        ``σ_{F+1} / σ_max`` (or of an unsigned DKP test) is an event when it is at most
+        ``σ_{F+1}`` of the dimensionless ``J`` (or of an unsigned DKP test) is an event when it is at most
         ``event · rank`` (default ``10``, i.e. ``1e-7``).  A minimum located along a path
         by Brent's method on a Newton-projected curve is accurate to a few ``1e-9`` only,
         so the event threshold sits one decade above the classifier's; the classifier
         (:func:`symkin.analyze`, same ``rank``) then says whether the event is confirmed.
     near_branch : float
-        A sign change of a DKP test located where ``σ_{F+1} / σ_max`` is below
+        A sign change of a DKP test located where ``σ_{F+1}`` (dimensionless ``J``) is below
         ``near_branch`` is refined as a branch point (IM) instead (default ``1e-5``: two
         decades above the event threshold, where a DKP root next to a branch point is
         no longer separated from it at the continuation's step size).

@@ -166,9 +166,10 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
 def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances) -> tuple[int, ...] | None:
     """The ``nf − F`` independent constraint rows ``J_S`` of ``jf`` (m, nf), or None.
 
-    Greedy in row order (:func:`symkin.numeric.linalg.independent_rows`, the same choice the
-    evaluators make at a generic configuration); None when ``jf`` has fewer than ``nf − F``
-    independent rows here (an IM configuration).
+    :func:`symkin.numeric.linalg.independent_rows` (the rule the evaluators apply once, at a
+    generic configuration; here it is applied at the configuration of ``jf``: where every
+    effective row is needed, as in most mechanisms, both give all of them); None when
+    ``jf`` has fewer than ``nf − F`` independent rows here (an IM configuration).
     """
     count = jf.shape[1] - mobility
     if count <= 0:

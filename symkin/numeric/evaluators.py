@@ -423,11 +423,10 @@ class Evaluators:
 def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: int, tol: float):
     """Constraint rows to build the motion space from: ``rank`` independent rows of ``J_e``.
 
-    The first independent rows in row order (:func:`symkin.numeric.linalg.independent_rows`,
+    Well-conditioned independent rows (:func:`symkin.numeric.linalg.independent_rows`,
     relative ``tol``, the one choice of ``J_S``), taken at a generic configuration near the
-    model's (perturbed, then projected onto the closure manifold), so that the choice
-    depends on the topology, not on the configuration.  All effective rows when there are
-    exactly ``rank`` independent ones.  ``None`` when the rank of ``J_e`` there is not
+    model's (perturbed, then projected onto the closure manifold).  All effective rows
+    when there are exactly ``rank``.  ``None`` when the rank of ``J_e`` there is not
     ``rank`` (the declared mobility is not the generic one).
     """
     if len(effective) == rank:

@@ -106,34 +106,25 @@ def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.nda
 
 
 def independent_rows(a: np.ndarray, tol: float, count: int | None = None) -> tuple[int, ...]:
-    """The first independent rows of ``a`` in row order (greedy), at most ``count`` of them.
+    """Indices (ascending) of well-conditioned independent rows of ``a``, at most ``count`` of them.
 
-    Row ``i`` is kept when its component orthogonal to the rows kept before it has norm
-    ``> tol · max_k ‖a_k‖`` (Gram-Schmidt, orthogonalised twice).  The choice depends only
-    on which leading sets of rows are independent, so at generic configurations of a
-    mechanism it depends on its topology and not on the configuration: this is the one
-    choice of the independent constraint rows ``J_S`` (evaluators, :func:`symkin.analyze`,
-    paths) and of the rows a square corrector keeps.  ``len(result)`` is the rank of ``a``
-    when ``count`` is None.
+    QR with column pivoting of ``aᵀ``: the rank is the number of ``|R_kk| > tol · |R_00|``
+    (relative, so scale invariant), and the rows are the first ``min(rank, count)``
+    pivots.  This is the one choice of the independent constraint rows ``J_S`` (made once
+    by the evaluators at a generic configuration, and by :func:`symkin.analyze` at its
+    configuration) and of the rows that the path's square corrector and bifurcation test
+    keep.  ``len(result)`` is the rank of ``a`` when ``count`` is None.
 
     >>> independent_rows(np.array([[1.0, 0.0], [2.0, 0.0], [0.0, 3.0]]), 1e-8)
-    (0, 2)
+    (1, 2)
     """
+    from scipy.linalg import qr
+
     a = np.asarray(a, dtype=float)
     if a.size == 0:
         return ()
-    floor = tol * float(np.max(np.linalg.norm(a, axis=1)))
-    basis: list[np.ndarray] = []
-    kept: list[int] = []
-    for i, row in enumerate(a):
-        if count is not None and len(kept) >= count:
-            break
-        r = row.copy()
-        for _ in range(2):
-            for b in basis:
-                r -= (b @ r) * b
-        nr = float(np.linalg.norm(r))
-        if nr > floor and nr > 0.0:
-            basis.append(r / nr)
-            kept.append(i)
-    return tuple(kept)
+    _, r, piv = qr(a.T, pivoting=True, mode="economic")
+    d = np.abs(np.diag(r))
+    rank = int(np.count_nonzero(d > tol * d[0])) if d.size and d[0] > 0 else 0
+    take = rank if count is None else min(rank, count)
+    return tuple(sorted(int(k) for k in piv[:take]))

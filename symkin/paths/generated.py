@@ -17,8 +17,8 @@ used (same numbers, slower).  Over-constrained systems (non-square ``A``) keep t
 least-squares corrector of :mod:`symkin.paths.continuation`.
 
 Redundant equations (over-constrained mechanisms, bodies with more nodes than a frame)
-are handled by keeping ``n − 1`` independent rows chosen at the start (the first
-independent rows, :func:`symkin.numeric.linalg.independent_rows`); the other rows are consistent with them on the closure manifold.  Should the
+are handled by keeping ``n − 1`` independent rows chosen at the start (QR with column
+pivoting, :func:`symkin.numeric.linalg.independent_rows`); the other rows are consistent with them on the closure manifold.  Should the
 kept rows lose rank later on the path, the continuation falls back to the least-squares
 corrector for that step.
 """
@@ -99,7 +99,7 @@ _CACHE: dict[str, GeneratedCorrector | None] = {}
 
 
 def _rows_to_keep(curve) -> list[int] | None:
-    """All rows of H for a square system; for redundant rows, the first n − 1 independent ones at the start."""
+    """All rows of H for a square system; for redundant rows, n − 1 well-conditioned independent ones at the start."""
     j0 = curve.jacobian(curve.y0())
     m, n = j0.shape
     if m + 1 == n:

