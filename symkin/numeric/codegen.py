@@ -319,7 +319,7 @@ def cached_library(directory, stem: str, write_sources: Callable[[Path], Path], 
         with _build_lock(directory / f"{stem}.lock"):
             if so_path.exists() and not rebuild:
                 return  # another process built it while we waited
-            with tempfile.TemporaryDirectory(dir=directory, prefix=f".{stem}.") as tmp:
+            with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
                 c_path = write_sources(Path(tmp))
                 built = build_library(c_path, Path(tmp) / so_path.name, compiler, flags)
                 for src in sorted(Path(tmp).iterdir()):
