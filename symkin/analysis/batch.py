@@ -353,7 +353,7 @@ class Evaluators(_numeric.Evaluators):
         return batch(self, configurations, tol=tol, exact=exact)
 
 
-def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
+def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT, kernel: bool = True) -> Evaluators:
     """The evaluators of ``mech`` with decisions (``symkin.evaluators``).
 
     Builds :func:`symkin.numeric.evaluators.evaluators` (see it for the Functions and the
@@ -366,7 +366,7 @@ def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
     >>> ev.batch([ev.q0]).types(0), ev.indicators_at(ev.q0)["dof"]
     ((), 1)
     """
-    base = _numeric.evaluators(mech, tolerances)
+    base = _numeric.evaluators(mech, tolerances, kernel=kernel)
     return Evaluators(**{f.name: getattr(base, f.name) for f in fields(base)})
 
 
@@ -377,11 +377,12 @@ def evaluators_for(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluat
     """The evaluators of ``mech``, built once per process and model content (shared, do not mutate).
 
     Paths and maps of one mechanism share them: the CasADi closure and parameter rows
-    they are built on are those of :func:`evaluators`.
+    they are built on are those of :func:`evaluators`.  The indicator kernel is built on
+    first use (a path needs only the closure and the rows).
     """
     key = (mech.content_hash(), tolerances)
     ev = _SHARED.get(key)
     if ev is None:
-        ev = evaluators(mech, tolerances)
+        ev = evaluators(mech, tolerances, kernel=False)
         _SHARED[key] = ev
     return ev

@@ -78,6 +78,8 @@ INDICATOR_NAMES = ("im", "im_certified", "trace", "dkp_input", "dkp_input_bound"
 #: the named Functions of every :class:`Evaluators`
 FUNCTION_NAMES = ("G", "J", "closure", "closure_jacobian", "parameters", "indicators",
                   "indicators_batch", "motion")
+#: Functions of the indicator kernel: built with the others, or on first use (``kernel=False``)
+KERNEL_FUNCTIONS = ("indicators", "indicators_batch", "motion")
 #: configurations per call of ``indicators_batch``
 BATCH = 1024
 
@@ -280,6 +282,27 @@ def _dkp(x: ca.SX, sign: ca.SX) -> tuple[ca.SX, ca.SX]:
 
 
 # ---------------------------------------------------------------------- the evaluators
+class _Functions(dict):
+    """Functions by name; when the kernel was deferred, its Functions are built on first access."""
+
+    def __init__(self, funcs, build=None):
+        super().__init__(funcs)
+        self._build = build
+
+    def ensure(self) -> None:
+        """Build the deferred kernel Functions now (no-op when they exist)."""
+        build, self._build = self._build, None
+        if build is not None:
+            build()
+
+    def __missing__(self, key):
+        if self._build is not None and key in KERNEL_FUNCTIONS:
+            self.ensure()
+            if dict.__contains__(self, key):
+                return dict.__getitem__(self, key)
+        raise KeyError(key)
+
+
 @dataclass(eq=False)
 class Evaluators:
     """Named CasADi Functions of one mechanism (see the module docstring).
@@ -324,7 +347,7 @@ class Evaluators:
     # -- access
     def __getattr__(self, name: str):
         functions = self.__dict__.get("functions", {})
-        if name in functions:
+        if name in functions or (name in KERNEL_FUNCTIONS and self.__dict__.get("fast")):
             return functions[name]
         if name in FUNCTION_NAMES:
             raise AttributeError(f"{name!r} is not available for {self.mech.name!r}: the indicator "
@@ -417,6 +440,9 @@ class Evaluators:
         """
         from symkin.numeric.codegen import compile_evaluators
 
+        for funcs in (self._symbolic, self.functions):
+            if isinstance(funcs, _Functions):
+                funcs.ensure()
         return compile_evaluators(self, cache_dir=cache_dir, compiler=compiler, flags=flags, force=force)
 
 
@@ -452,7 +478,7 @@ def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: in
     return tuple(effective[i] for i in chosen)
 
 
-def _functions(cm: CasadiModel, mobility: int, tol: float):
+def _functions(cm: CasadiModel, mobility: int, tol: float, kernel: bool = True):
     q, p = cm.q, cm.p
     free_cols = np.flatnonzero(cm.free).tolist()
     jf = cm.J[:, free_cols]
@@ -476,7 +502,7 @@ def _functions(cm: CasadiModel, mobility: int, tol: float):
     r0 = m_e - (nf - f)
     basis_rows = _basis_rows(cm, jf, effective, nf - f, tol) if (nf - f >= 1 and r0 >= 0) else None
     fast = basis_rows is not None
-    if fast:
+    if fast and kernel:
         je = jf[list(effective), :]
         js = jf[list(basis_rows), :]
         p_in = _unit_rows(cm.inputs[:, free_cols]) if cm.inputs.shape[0] else ca.SX(0, nf)
@@ -530,7 +556,7 @@ def _functions(cm: CasadiModel, mobility: int, tol: float):
     return funcs, effective, basis_rows, fast
 
 
-def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
+def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT, kernel: bool = True) -> Evaluators:
     """CasADi evaluators of ``mech`` (G, J, closure residual, parameter rows, indicators).
 
     Parameters
@@ -541,6 +567,10 @@ def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
     tolerances : Tolerances
         ``geometry`` recognises degenerate bodies (as the core does); ``rank`` chooses
         the independent rows ``J_S`` at a generic configuration.
+    kernel : bool
+        Build the indicator kernel (``indicators``, ``indicators_batch``, ``motion``) now;
+        with False it is built on first use (paths, which need only the closure and the
+        rows, do not pay for it).
 
     Returns
     -------
@@ -560,8 +590,16 @@ def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
     True
     """
     cm = build(mech, tolerances)
-    funcs, effective, basis, fast = _functions(cm, mech.mobility_value, tolerances.rank)
-    return Evaluators(mech=mech, model=cm, functions=dict(funcs), q_labels=cm.q_labels,
+    funcs, effective, basis, fast = _functions(cm, mech.mobility_value, tolerances.rank, kernel)
+    functions, symbolic = _Functions(funcs), _Functions(funcs)
+    if fast and not kernel:
+        def build_kernel() -> None:
+            full = _functions(cm, mech.mobility_value, tolerances.rank)[0]
+            for target in (functions, symbolic):
+                target._build = None
+                target.update({k: full[k] for k in KERNEL_FUNCTIONS if k in full})
+        functions._build = symbolic._build = build_kernel
+    return Evaluators(mech=mech, model=cm, functions=functions, q_labels=cm.q_labels,
                       p_labels=cm.p_labels, p0=cm.p0, row_owners=cm.owners,
                       effective_rows=effective, basis_rows=basis or (), fast=fast,
-                      _symbolic=dict(funcs))
+                      _symbolic=symbolic)
