@@ -122,7 +122,7 @@ def _unit_parameter_rows(ev, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return out[0], out[1]
 
 
-def _basis_stack(ev, jf: np.ndarray, tol: Tolerances) -> np.ndarray | None:
+def _basis_stack(ev, jf: np.ndarray) -> np.ndarray | None:
     """``J_S`` at every configuration (n, nf − F, nf): the evaluators' rows, else chosen here."""
     n, _, nf = jf.shape
     if nf - ev.mobility <= 0:
@@ -163,7 +163,7 @@ def exact_indicators(ev, configurations, tol: float | Tolerances | None = None) 
     out["dof"] = dof
     out["im"] = ind.is_im(dof, f)
     out["im_indicator"] = ind.im_indicator(s_full, f)
-    js_all = _basis_stack(ev, jf, tol)
+    js_all = _basis_stack(ev, jf)
     for L in np.unique(dof):
         sel = np.flatnonzero(dof == L)
         v = vt[sel][:, nf - L:, :].transpose(0, 2, 1)  # (s, nf, L): the null space

@@ -496,7 +496,8 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
     for item in sorted(found, key=lambda it: it["s"]):
         x = curve.x_of(item["y"])
         analysis = analyze(mech.with_coordinates(x), tol=tolerances)
-        bif = branch_directions(counted, item["y"]) if (branch_analysis and item["kind"] == "IM") else None
+        bif = (branch_directions(counted, item["y"], rank_tol=tolerances.event_threshold)
+               if (branch_analysis and item["kind"] == "IM") else None)
         events.append(PathEvent(item["kind"], item["input"], item["s"], x, analysis, item["value"],
                                 item["evaluations"], curve.drive.absolute(mech, x), bif, item["y"], item["t"],
                                 tuple(dict.fromkeys(item["tests"]))))
