@@ -189,8 +189,12 @@ def _motion(mech: Mechanism, vec: np.ndarray, moves_out, moves_pf) -> Motion:
 def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances) -> tuple[float | None, float | None]:
     """Signed DKP values of the inputs and outputs (:func:`symkin.analysis.indicators.dkp_value`).
 
-    Defined where ``L = F``, with ``J_S`` the independent constraint rows chosen as the
-    evaluators choose them; None elsewhere and when there are no such parameters.
+    Defined where ``L = F``; None elsewhere and when there are no such parameters.
+    ``J_S`` is chosen by the evaluators' rule (:func:`symkin.analysis.indicators.basis_rows`)
+    at this configuration: where no constraint row is redundant (every catalogue
+    mechanism) that is every effective row, the evaluators' choice, and the values equal
+    theirs.  With redundant rows the magnitude ``|det(P̂ V)|`` is the same for any choice;
+    the sign is relative to the rows chosen and may differ from the evaluators'.
     """
     f = mech.mobility_value
     if ms.dof != f:
