@@ -47,3 +47,17 @@ def test_path_command_passes_tol(capsys):
     with pytest.raises(SystemExit) as info:
         main(["path", str(EXAMPLES / "fourbar_appendix.toml"), "--to", "360", "--tol", "2"])
     assert info.value.code == 2
+
+
+def test_follow_branch_classifies_with_its_tolerance():
+    from tests.paths.test_trace import fourbar
+    from symkin.paths.trace import follow_branch
+
+    m = fourbar([0.0, 0.0], [0.0, 1.0], [2.0, 1.0], [2.0, 0.0], "parallelogram")
+    path = trace(m, stop=360, unit="deg", tol=1e-7)
+    ims = [e for e in path.singular_events() if e.kind == "IM"]
+    assert len(ims) == 2 and all(e.analysis.tolerance == 1e-7 and e.analysis.dof == 2 for e in ims)
+    sub = follow_branch(path, ims[0], 0, max_arclength=4.0, tol=1e-6)
+    events = sub.singular_events()
+    assert events and all(e.analysis.tolerance == 1e-6 for e in events)
+    assert sub.points[0].indicators["im_indicator"] == pytest.approx(0.0, abs=1e-20)  # the branch point
