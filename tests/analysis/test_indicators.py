@@ -119,3 +119,13 @@ def test_analyze_takes_its_tolerance_one_way():
     d = symkin.analyze(flat_ish).to_dict()
     assert isinstance(d["dkp_input"], float) and isinstance(d["dkp_output"], float)
     assert symkin.analyze(get("fourbar_flat")).to_dict()["dkp_input"] is None  # IM: not defined
+
+
+@pytest.mark.parametrize("name", ["fourbar_appendix", "slider_crank", "rrr_3", "five_bar", "rssr"])
+def test_dkp_values_are_invariant_under_scaling_and_translation(name):
+    mech = get(name)
+    a = symkin.analyze(mech)
+    for moved in (mech.moved(scale=1000.0), mech.moved(translation=[3.0, -2.0, 1.0][: mech.dim], scale=0.01)):
+        b = symkin.analyze(moved)
+        for key in ("dkp_input", "dkp_output", "im_indicator"):
+            assert getattr(b, key) == pytest.approx(getattr(a, key), rel=1e-10), key
