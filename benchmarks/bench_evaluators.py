@@ -42,8 +42,8 @@ import casadi as ca  # noqa: E402
 import sympy as sp  # noqa: E402
 
 import symkin  # noqa: E402
-from symkin.numeric.batch import fast_caller  # noqa: E402
-from symkin.numeric.evaluators import evaluators  # noqa: E402
+from symkin.analysis.batch import fast_caller  # noqa: E402
+from symkin.analysis.batch import evaluators  # noqa: E402
 
 
 # ---------------------------------------------------------------------- the baseline (a)

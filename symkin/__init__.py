@@ -14,7 +14,7 @@ from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import ModelError, ModelFileError, NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism, Parameter, Slider
 from symkin.model.model_file import read_model, write_model
-from symkin.numeric.evaluators import Evaluators, evaluators
+from symkin.analysis.batch import Evaluators, evaluators
 from symkin.numeric.geometric_matrix import geometric_matrix
 from symkin.report import render_text
 

@@ -10,6 +10,13 @@ Every numerical decision in symkin (a rank, a zero eigenvalue, a zero row) compa
 * Kinematic-parameter rows are scaled to unit norm before they are restricted to the
   motion space, whose basis is orthonormal; a restricted row or singular value counts as
   zero when it is ``<= tol``.
+* Independent rows (the rows ``J_S`` that the motion space and the signed DKP values are
+  built from, the rows a square corrector keeps) are chosen by QR with column pivoting;
+  the rank counts the diagonal entries ``|R_kk| > rank · |R_00|``
+  (:func:`symkin.numeric.linalg.independent_rows`).
+* Events along a path (:func:`symkin.trace`) are accepted with thresholds that are
+  multiples of ``rank`` (see :attr:`Tolerances.event`), and then classified by
+  :func:`symkin.analyze` with the same ``rank``.
 * Geometric checks on model files (a slider node on its line, a zero-length bar) compare
   distances with ``geometry_tol · length_scale``, where the length scale is the mean
   length of the node pairs inside the links.
@@ -44,11 +51,49 @@ class Tolerances:
         units of the model's length scale); their events are merged into one.  Located
         events are accurate to ~1e-9 and distinct singular configurations of a path are
         far apart, so ``1e-6`` separates the two cases with a wide margin.
+    event : float
+        Ratio of the path-event threshold to ``rank``: a located minimum of the IM test
+        ``σ_{F+1}`` of the dimensionless ``J`` (or of an unsigned DKP test) is an event when it is at most
+        ``event · rank`` (default ``10``, i.e. ``1e-7``).  A minimum located along a path
+        by Brent's method on a Newton-projected curve is accurate to a few ``1e-9`` only,
+        so the event threshold sits one decade above the classifier's; the classifier
+        (:func:`symkin.analyze`, same ``rank``) then says whether the event is confirmed.
+    near_branch : float
+        A sign change of a DKP test located where ``σ_{F+1}`` (dimensionless ``J``) is below
+        ``near_branch`` is refined as a branch point (IM) instead (default ``1e-5``: two
+        decades above the event threshold, where a DKP root next to a branch point is
+        no longer separated from it at the continuation's step size).
+    kernel_margin : float
+        Factor on singular values by which the generated indicator kernel must clear the
+        rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
+        default ``100``: well beyond the kernel's rounding, so kernel and SVD never
+        disagree on a configuration the kernel decides).
     """
 
     rank: float = 1e-8
     geometry: float = 1e-6
     same_configuration: float = 1e-6
+    event: float = 10.0
+    near_branch: float = 1e-5
+    kernel_margin: float = 100.0
+
+    @property
+    def event_threshold(self) -> float:
+        """``event · rank``: relative threshold of the path's minimum tests (see ``event``)."""
+        return self.event * self.rank
+
+    @classmethod
+    def of(cls, tol: "float | Tolerances | None") -> "Tolerances":
+        """The tolerances meant by ``tol``: a :class:`Tolerances`, a rank tolerance, or None (defaults).
+
+        >>> Tolerances.of(1e-6).rank, Tolerances.of(None).rank
+        (1e-06, 1e-08)
+        """
+        if isinstance(tol, Tolerances):
+            return tol
+        if isinstance(tol, bool) or not (tol is None or isinstance(tol, (int, float))):
+            raise TypeError(f"tol must be a float (the rank tolerance) or a Tolerances, got {tol!r}")
+        return DEFAULT.with_rank(tol)
 
     def with_rank(self, rank: float | None) -> "Tolerances":
         """Return a copy whose rank tolerance is ``rank`` (unchanged when ``None``)."""

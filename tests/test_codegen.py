@@ -16,7 +16,7 @@ import pytest
 from symkin.commands import codegen as codegen_command
 from symkin.model.catalogue import get
 from symkin.numeric import codegen
-from symkin.numeric.evaluators import evaluators
+from symkin.analysis.batch import evaluators
 
 HAVE_CC = shutil.which(codegen.find_compiler()) is not None
 needs_cc = pytest.mark.skipif(not HAVE_CC, reason="no C compiler on this machine")

@@ -20,7 +20,8 @@ from symkin import Mechanism, Parameter
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.catalogue import data, get, names
 from symkin.numeric import geometric_matrix as gm
-from symkin.numeric.evaluators import INDICATOR_NAMES, evaluators
+from symkin.analysis.batch import evaluators
+from symkin.numeric.evaluators import INDICATOR_NAMES
 
 DECIDED = ("IM", "DKP-input", "DKP-output")
 

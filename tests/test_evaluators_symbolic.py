@@ -15,7 +15,7 @@ import sympy as sp
 import symkin
 from symkin.model.catalogue import get, names
 from symkin.numeric import geometric_matrix as gm
-from symkin.numeric.evaluators import evaluators
+from symkin.analysis.batch import evaluators
 
 symbolic = pytest.importorskip("symkin.symbolic")
 

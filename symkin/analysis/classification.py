@@ -28,13 +28,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from symkin.analysis import indicators
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.analysis.relations import Relation, canonical_relations
 from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
 from symkin.model.mechanism import Mechanism, Parameter
+from symkin.numeric.geometric_matrix import constraint_rows, free_mask, parameters_matrix
 from symkin.numeric.linalg import left_null_space, rank_and_null_space, rref
-from symkin.tolerances import DEFAULT, Tolerances
+from symkin.tolerances import Tolerances
 
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
 
@@ -83,6 +85,8 @@ class Analysis:
     platform_dof_generic: int | None
     platform_relations: tuple[Relation, ...]
     im_indicator: float | None
+    dkp_input: float | None
+    dkp_output: float | None
     singular_values: tuple[float, ...]
     tolerance: float
     threshold: float
@@ -126,6 +130,7 @@ class Analysis:
             "platform_relations": rels(self.platform_relations),
             "uncontrolled_motions": [m.as_dict() for m in self.uncontrolled_motions],
             "im_indicator": self.im_indicator,
+            "dkp_input": self.dkp_input, "dkp_output": self.dkp_output,
             "singular_values": list(self.singular_values),
             "tolerance": self.tolerance, "threshold": self.threshold,
             "margin": self.margin if self.margin is not None and math.isfinite(self.margin) else None,
@@ -170,14 +175,46 @@ def _motion(mech: Mechanism, vec: np.ndarray, moves_out, moves_pf) -> Motion:
 
 
 # ---------------------------------------------------------------------- main
-def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = DEFAULT) -> Analysis:
+def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances) -> tuple[float | None, float | None]:
+    """Signed DKP values of the inputs and outputs (:func:`symkin.analysis.indicators.dkp_value`).
+
+    Defined where ``L = F``; None elsewhere and when there are no such parameters.
+    ``J_S`` is chosen by the evaluators' rule (:func:`symkin.analysis.indicators.basis_rows`)
+    at this configuration: where no constraint row is redundant (every catalogue
+    mechanism) that is every effective row, the evaluators' choice, and the values equal
+    theirs.  With redundant rows the magnitude ``|det(P̂ V)|`` is the same for any choice;
+    the sign is relative to the rows chosen and may differ from the evaluators'.
+    """
+    f = mech.mobility_value
+    if ms.dof != f:
+        return None, None
+    free = free_mask(mech)
+    jf = constraint_rows(mech, tolerances).matrix[:, free]
+    rows = indicators.basis_rows(jf, f, tolerances)
+    js = None if rows is None else jf[list(rows)]
+    v = ms.V[free]
+    out = []
+    for params in (mech.inputs, mech.outputs):
+        p, _ = parameters_matrix(mech, params)
+        if p.shape[0] == 0:
+            out.append(None)
+            continue
+        p_hat = indicators.unit_rows(p[:, free])[0]
+        sv = indicators.restricted_singular_values(p_hat, v)
+        out.append(float(indicators.dkp_value(p_hat, sv, f, js)))
+    return out[0], out[1]
+
+
+def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     """Analyse the configuration of ``mech`` (paper Fig. 9).
 
     Parameters
     ----------
     mech : Mechanism
-    tol : float, optional
-        Relative rank tolerance (overrides ``tolerances.rank``; see :mod:`symkin.tolerances`).
+    tol : float or Tolerances, optional
+        The relative rank tolerance (a float), or all the tolerances (a
+        :class:`~symkin.tolerances.Tolerances`); default ``Tolerances()`` (see
+        :mod:`symkin.tolerances`).
 
     Notes
     -----
@@ -197,13 +234,13 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     >>> a.dof, a.types
     (1, ())
     """
-    tolerances = tolerances.with_rank(tol)
+    tolerances = Tolerances.of(tol)
     t = tolerances.rank
     ms = motion_space(mech, tolerances)
     f = mech.mobility_value
     L = ms.dof
     types = []
-    if L > f:
+    if indicators.is_im(L, f):
         types.append("IM")
 
     m_in, n_in, lab_in = ms.restrict(mech.inputs)
@@ -211,9 +248,9 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     k_in, k_out = m_in.shape[0], m_out.shape[0]
     r_in, null_in = _rank(m_in, t)
     r_out, null_out = _rank(m_out, t)
-    if k_in and r_in < min(f, k_in):
+    if indicators.is_dkp(indicators.restricted_singular_values(m_in, np.eye(L)), k_in, f, tolerances):
         types.append("DKP-input")
-    if k_out and r_out < min(f, k_out):
+    if indicators.is_dkp(indicators.restricted_singular_values(m_out, np.eye(L)), k_out, f, tolerances):
         types.append("DKP-output")
 
     speeds = ms.node_speeds()
@@ -264,6 +301,7 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     type1 = "DKP-output" in types or ri
     ga = "type 3" if (type1 and type2) else "type 2" if type2 else "type 1" if type1 else None
 
+    dkp_in, dkp_out = _dkp_values(mech, ms, tolerances)
     s = ms.singular_values
     shown = tuple(float(v) for v in s[: min(s.size, L + 3)])
     margin = None
@@ -285,7 +323,8 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         output_relations=_relations(m_out, n_out, lab_out, t),
         locked_links=locked_links, locked_nodes=locked_nodes, uncontrolled_motions=motions,
         platform=mech.platform, platform_dof=platform_dof, platform_dof_generic=generic,
-        platform_relations=pf_rel, im_indicator=ms.im_indicator(f), singular_values=shown,
+        platform_relations=pf_rel, im_indicator=ms.im_indicator(f), dkp_input=dkp_in, dkp_output=dkp_out,
+        singular_values=shown,
         tolerance=t, threshold=float(ms.threshold), margin=margin,
         gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms,
         redundant_constraints=statics.redundant_constraints, self_stresses=statics.self_stresses,

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from symkin.analysis import indicators
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_mask,
                                              parameters_matrix, rotation_rows)
@@ -63,7 +64,7 @@ class MotionSpace:
         f = self.mechanism.mobility_value if mobility is None else mobility
         if f >= self.singular_values.size:
             return None
-        return float(self.eigenvalues[f])
+        return float(indicators.im_indicator(self.singular_values, f))
 
     def omega(self) -> tuple[np.ndarray, tuple[str, ...]]:
         """Ω of eq. (10): angular-velocity rows of the moving links times V, and labels."""
@@ -86,10 +87,8 @@ class MotionSpace:
         """
         mech = self.mechanism
         p, labels = parameters_matrix(mech, params)
-        free = free_mask(mech)
-        norms = np.linalg.norm(p[:, free], axis=1) if p.size else np.zeros(0)
-        safe = np.where(norms > 0, norms, 1.0)
-        return (p / safe[:, None]) @ self.V, safe, labels
+        p_hat, norms = indicators.unit_rows(p, free_mask(mech))
+        return p_hat @ self.V, norms, labels
 
     def node_speeds(self) -> dict[str, float]:
         """Norm of each node's rows of V: zero for a node that cannot move at all."""

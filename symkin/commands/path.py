@@ -8,6 +8,7 @@ import math
 import sys
 
 from symkin.commands import Output
+from symkin.commands.analyze import tolerance
 from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
 
@@ -37,6 +38,8 @@ def add_arguments(p) -> None:
     p.add_argument("--plot", metavar="FILE.png", default=None,
                    help="write a figure of the indicators along the path and the node traces")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on the terminal")
+    p.add_argument("--tol", type=tolerance, default=None,
+                   help="relative rank tolerance for the events and their classification (default 1e-8)")
 
 
 def _progress_bar(enabled: bool):
@@ -125,7 +128,7 @@ def run(args) -> Output:
     bar, update = _progress_bar(not args.no_progress and not args.json)
     try:
         path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
-                     max_arclength=args.max_arclength, progress=update, steps=args.steps)
+                     max_arclength=args.max_arclength, progress=update, steps=args.steps, tol=args.tol)
     except SymkinError as exc:
         raise _in_file(exc, args.model)
     finally:

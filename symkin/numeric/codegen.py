@@ -10,8 +10,16 @@ speed-up: the generated functions give the numbers of the in-process CasADi Func
   ``SYMKIN_CC`` or ``CC`` environment variable, else ``cc``) and loaded with
   ``casadi.external``.
 * Artefacts are cached on disk under ``SYMKIN_CACHE`` (default ``~/.cache/symkin``), in a
-  file named after the model's content hash and the CasADi version, so a model is
-  compiled once per machine; loaded libraries are also kept for the process.
+  file named after the model's content hash, the CasADi version and a hash of the
+  generating sources, compiler and flags (:func:`artefact_stem`), so a model is compiled
+  once per machine; loaded libraries are also kept for the process.  Every generated
+  artefact of symkin (these evaluators, the path corrector of
+  :mod:`symkin.paths.generated`) goes through the one cache entry point
+  :func:`cached_library`.
+* Writes are atomic: sources, manifest and library are built in a temporary directory
+  inside the cache and moved into place with ``os.replace``, the library last; builders of
+  the same artefact are serialised by a lock file (``fcntl.flock`` where available), so
+  concurrent processes (Dask workers) never load a half-written library.
 * With no working compiler, a :class:`CodegenWarning` says so and the in-process
   Functions stay in use.
 """
@@ -24,13 +32,16 @@ import shutil
 import subprocess
 import tempfile
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Callable, Iterable
 
 import casadi as ca
 
 from symkin.errors import SymkinError
 
 __all__ = ["CodegenWarning", "CompilerError", "DEFAULT_FLAGS", "cache_directory", "artefact_stem",
+           "artefact_key", "cached_library", "write_atomic",
            "generate_sources", "build_library", "load_library", "compile_evaluators", "header_notes",
            "find_compiler", "GENERATED_FUNCTIONS", "manifest"]
 
@@ -97,12 +108,25 @@ def find_compiler(compiler: str | None = None) -> str:
     return compiler or os.environ.get("SYMKIN_CC") or os.environ.get("CC") or "cc"
 
 
-def _generator_fingerprint() -> str:
+def _generator_fingerprint(sources: Iterable = ()) -> str:
+    """Hash of the text of the modules that decide what is generated (and of ``sources``)."""
     here = Path(__file__).resolve().parent
     digest = hashlib.sha256()
     for name in _SOURCES:
         digest.update((here / f"{name}.py").read_bytes())
+    for path in sources:
+        digest.update(Path(path).read_bytes())
     return digest.hexdigest()
+
+
+def artefact_key(parts: Iterable[str], compiler: str, flags, sources: Iterable = ()) -> str:
+    """Cache key of a generated artefact: what it is (``parts``), CasADi version, sources, compiler, flags.
+
+    ``sources`` are extra files whose text decides what is generated (e.g. the module that
+    builds a Function outside :mod:`symkin.numeric`); the numeric modules are always in.
+    """
+    text = "|".join([*parts, ca.__version__, _generator_fingerprint(sources), compiler, " ".join(flags)])
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
 
 
 def artefact_stem(mech, compiler: str, flags) -> str:
@@ -196,7 +220,7 @@ def generate_sources(ev, directory, stem: str) -> tuple[Path, Path]:
     c_path, h_path = directory / f"{stem}.c", directory / f"{stem}.h"
     notes = header_notes(ev)
     for path in (h_path, c_path):
-        path.write_text(notes + path.read_text())
+        write_atomic(path, notes + path.read_text())
     return c_path, h_path
 
 
@@ -241,6 +265,78 @@ def load_library(so_path, names) -> dict[str, ca.Function]:
     return loaded
 
 
+def write_atomic(path, text: str) -> Path:
+    """Write ``text`` to ``path`` through a temporary file in the same directory and ``os.replace``."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except OSError:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+@contextmanager
+def _build_lock(path: Path):
+    """Exclusive lock on ``path`` (``fcntl.flock``; no lock where ``fcntl`` does not exist)."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: atomic replacement alone keeps readers safe
+        yield
+        return
+    with open(path, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def cached_library(directory, stem: str, write_sources: Callable[[Path], Path], names,
+                   compiler: str | None = None, flags=DEFAULT_FLAGS, force: bool = False) -> dict[str, ca.Function]:
+    """Build (once per cache) and load the library ``stem.so``: the one entry point of the artefact cache.
+
+    ``write_sources(tmp)`` writes ``stem.c`` (and any companion files: header, manifest)
+    into the temporary directory ``tmp`` and returns the path of the C file.  Under a
+    lock on ``stem.lock``, when the library is missing (or ``force``), the sources are
+    written and compiled inside a temporary directory of the cache and moved into place,
+    the library last, with ``os.replace``: a reader sees either no library or a complete
+    one.  A file under the library's name that does not load is rebuilt once.
+
+    Raises
+    ------
+    CompilerError
+        When the compiler is missing or fails.
+    """
+    directory = _ensure(Path(directory))
+    so_path = directory / f"{stem}.so"
+
+    def build(rebuild: bool) -> None:
+        with _build_lock(directory / f"{stem}.lock"):
+            if so_path.exists() and not rebuild:
+                return  # another process built it while we waited
+            with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
+                c_path = write_sources(Path(tmp))
+                built = build_library(c_path, Path(tmp) / so_path.name, compiler, flags)
+                for src in sorted(Path(tmp).iterdir()):
+                    if src != built:
+                        os.replace(src, directory / src.name)
+                os.replace(built, so_path)
+        _LOADED.pop(str(so_path.resolve()), None)
+
+    if force or not so_path.exists():
+        build(rebuild=force)
+    try:
+        return load_library(so_path, names)
+    except RuntimeError:  # a damaged or foreign file under our name: build it again, once
+        build(rebuild=True)
+        return load_library(so_path, names)
+
+
 def compile_evaluators(ev, cache_dir=None, compiler: str | None = None, flags=None, force: bool = False):
     """Generate, compile (once, cached on disk) and load C for the Functions of ``ev``.
 
@@ -269,26 +365,15 @@ def compile_evaluators(ev, cache_dir=None, compiler: str | None = None, flags=No
     cc = find_compiler(compiler)
     directory = cache_directory(cache_dir)
     stem = artefact_stem(ev.mech, cc, flags)
-    so_path = directory / f"{stem}.so"
     names = [n for n in GENERATED_FUNCTIONS if n in ev._symbolic]
 
-    def build():
-        with tempfile.TemporaryDirectory(dir=_ensure(directory)) as tmp:
-            c_path, h_path = generate_sources(ev, tmp, stem)
-            build_library(c_path, so_path, cc, flags)
-            for src in (c_path, h_path):
-                os.replace(src, directory / src.name)
-            (directory / f"{stem}.json").write_text(json.dumps(manifest(ev), indent=1))
-        _LOADED.pop(str(so_path.resolve()), None)
+    def write_sources(tmp: Path) -> Path:
+        c_path, _ = generate_sources(ev, tmp, stem)
+        write_atomic(tmp / f"{stem}.json", json.dumps(manifest(ev), indent=1))
+        return c_path
 
     try:
-        if force or not so_path.exists():
-            build()
-        try:
-            functions = load_library(so_path, names)
-        except RuntimeError:  # a damaged or foreign file under our name: build it again, once
-            build()
-            functions = load_library(so_path, names)
+        functions = cached_library(directory, stem, write_sources, names, cc, flags, force=force)
     except (CompilerError, OSError, RuntimeError) as exc:
         warnings.warn(f"symkin: could not compile the evaluators of {ev.mech.name!r} ({exc}); "
                       "using the in-process CasADi functions, which give the same numbers more slowly",
@@ -296,7 +381,7 @@ def compile_evaluators(ev, cache_dir=None, compiler: str | None = None, flags=No
         return ev
     ev.functions = dict(functions)
     ev.compiled = True
-    ev.library = str(so_path)
+    ev.library = str(directory / f"{stem}.so")
     ev._cache.clear()
     return ev
 

@@ -49,9 +49,13 @@ and ``nf - F`` independent ones (``J_S``, :attr:`Evaluators.basis_rows`) are cho
 ``V`` (Function ``motion``) and the DKP values come from a QR factorisation of
 ``[J_Sᵀ | P̂ᵀ]`` by Givens rotations (which skip the structural zeros of ``J``).
 
-:meth:`Evaluators.batch` evaluates the indicators over many configurations and decides
-IM / DKP exactly as :func:`symkin.analyze` does (see :mod:`symkin.numeric.batch`);
-:meth:`Evaluators.compile` generates and loads C code (see :mod:`symkin.numeric.codegen`).
+:mod:`symkin.numeric.mapping` evaluates the Functions over many configurations.  These are
+numbers only: the indicators' one definition and the IM / DKP decisions live in the analysis
+stage (:mod:`symkin.analysis.indicators`); ``symkin.evaluators(mech)`` returns the
+deciding subclass :class:`symkin.analysis.batch.Evaluators`, whose ``batch`` and
+``indicators_at`` decide exactly as :func:`symkin.analyze` does, and the tests keep the
+kernel above equal to that definition.  :meth:`Evaluators.compile` generates and loads C
+code (see :mod:`symkin.numeric.codegen`).
 """
 from __future__ import annotations
 
@@ -63,6 +67,7 @@ import numpy as np
 
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.casadi_model import CasadiModel, build
+from symkin.numeric.linalg import independent_rows
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["Evaluators", "evaluators", "INDICATOR_NAMES", "FUNCTION_NAMES"]
@@ -73,6 +78,8 @@ INDICATOR_NAMES = ("im", "im_certified", "trace", "dkp_input", "dkp_input_bound"
 #: the named Functions of every :class:`Evaluators`
 FUNCTION_NAMES = ("G", "J", "closure", "closure_jacobian", "parameters", "indicators",
                   "indicators_batch", "motion")
+#: Functions of the indicator kernel: built with the others, or on first use (``kernel=False``)
+KERNEL_FUNCTIONS = ("indicators", "indicators_batch", "motion")
 #: configurations per call of ``indicators_batch``
 BATCH = 1024
 
@@ -275,6 +282,27 @@ def _dkp(x: ca.SX, sign: ca.SX) -> tuple[ca.SX, ca.SX]:
 
 
 # ---------------------------------------------------------------------- the evaluators
+class _Functions(dict):
+    """Functions by name; when the kernel was deferred, its Functions are built on first access."""
+
+    def __init__(self, funcs, build=None):
+        super().__init__(funcs)
+        self._build = build
+
+    def ensure(self) -> None:
+        """Build the deferred kernel Functions now (no-op when they exist)."""
+        build, self._build = self._build, None
+        if build is not None:
+            build()
+
+    def __missing__(self, key):
+        if self._build is not None and key in KERNEL_FUNCTIONS:
+            self.ensure()
+            if dict.__contains__(self, key):
+                return dict.__getitem__(self, key)
+        raise KeyError(key)
+
+
 @dataclass(eq=False)
 class Evaluators:
     """Named CasADi Functions of one mechanism (see the module docstring).
@@ -319,7 +347,7 @@ class Evaluators:
     # -- access
     def __getattr__(self, name: str):
         functions = self.__dict__.get("functions", {})
-        if name in functions:
+        if name in functions or (name in KERNEL_FUNCTIONS and self.__dict__.get("fast")):
             return functions[name]
         if name in FUNCTION_NAMES:
             raise AttributeError(f"{name!r} is not available for {self.mech.name!r}: the indicator "
@@ -390,28 +418,9 @@ class Evaluators:
         One ``Function.map`` call per chunk (no Python loop per configuration).  Returns
         a dict of arrays of shape ``(N,) + output shape``.
         """
-        from symkin.numeric.batch import map_function
+        from symkin.numeric.mapping import map_function
 
         return map_function(self, name, configurations, p)
-
-    def indicators_at(self, q, tol: float | None = None) -> dict[str, Any]:
-        """Indicators and IM / DKP decisions at one configuration (fast single call).
-
-        Uses CasADi's buffer interface (no per-call conversion) and the paths of
-        :mod:`symkin.numeric.batch` when the configuration is near a singularity.
-        Returns a dict with ``im_indicator``, ``dof``, ``im``, ``dkp_input``,
-        ``dkp_output``, ``is_dkp_input``, ``is_dkp_output`` and ``path`` (0, 1, 2 as in
-        :class:`~symkin.numeric.batch.BatchResult`).
-        """
-        from symkin.numeric.batch import single
-
-        return single(self, q, tol)
-
-    def batch(self, configurations, tol: float | None = None, exact: bool = False):
-        """Indicators and decisions over N configurations; see :func:`symkin.numeric.batch.batch`."""
-        from symkin.numeric.batch import batch
-
-        return batch(self, configurations, tol=tol, exact=exact)
 
     def project(self, configurations, p=None, tol: float = 1e-12, max_iter: int = 25) -> np.ndarray:
         """Project configurations onto the closure manifold ``phi(q, p) = 0`` (batched Newton).
@@ -419,7 +428,7 @@ class Evaluators:
         Minimum-norm Gauss-Newton steps ``Δq = -J⁺ φ``; raises
         :class:`symkin.errors.NotConvergedError` when a configuration does not close.
         """
-        from symkin.numeric.batch import project
+        from symkin.numeric.mapping import project
 
         return project(self, configurations, p=p, tol=tol, max_iter=max_iter)
 
@@ -431,22 +440,23 @@ class Evaluators:
         """
         from symkin.numeric.codegen import compile_evaluators
 
+        for funcs in (self._symbolic, self.functions):
+            if isinstance(funcs, _Functions):
+                funcs.ensure()
         return compile_evaluators(self, cache_dir=cache_dir, compiler=compiler, flags=flags, force=force)
 
 
-def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: int):
+def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: int, tol: float):
     """Constraint rows to build the motion space from: ``rank`` independent rows of ``J_e``.
 
-    All effective rows when there are exactly ``rank``.  Otherwise (redundant rows: bodies
-    with more nodes than needed, degenerate bodies) the rows are picked by QR with column
-    pivoting at a generic configuration near the model's (perturbed, then projected onto
-    the closure manifold); ``None`` when their rank there is not ``rank`` (the declared
-    mobility is not the generic one).
+    Well-conditioned independent rows (:func:`symkin.numeric.linalg.independent_rows`,
+    relative ``tol``, the one choice of ``J_S``), taken at a generic configuration near the
+    model's (perturbed, then projected onto the closure manifold).  All effective rows
+    when there are exactly ``rank``.  ``None`` when the rank of ``J_e`` there is not
+    ``rank`` (the declared mobility is not the generic one).
     """
     if len(effective) == rank:
         return effective
-    import scipy.linalg
-
     q, p = cm.q, cm.p
     je = ca.densify(jf[list(effective), :])
     f_je = ca.Function("je", [q], [je])
@@ -462,14 +472,13 @@ def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: in
     else:
         qg = q0
     jn = np.array(f_je(qg))
-    _, r, piv = scipy.linalg.qr(jn.T, pivoting=True, mode="economic")
-    d = np.abs(np.diag(r))
-    if d.size < rank or d[rank - 1] <= 1e-8 * d[0] or (d.size > rank and d[rank] > 1e-8 * d[0]):
+    chosen = independent_rows(jn, tol)
+    if len(chosen) != rank:
         return None  # the generic rank is not nf - F: the declared mobility is not the generic one
-    return tuple(effective[i] for i in sorted(piv[:rank]))
+    return tuple(effective[i] for i in chosen)
 
 
-def _functions(cm: CasadiModel, mobility: int):
+def _functions(cm: CasadiModel, mobility: int, tol: float, kernel: bool = True):
     q, p = cm.q, cm.p
     free_cols = np.flatnonzero(cm.free).tolist()
     jf = cm.J[:, free_cols]
@@ -491,9 +500,9 @@ def _functions(cm: CasadiModel, mobility: int):
                       if any(not jf[i, j].is_zero() for j in range(jf.shape[1])))
     nf, m_e, f = len(free_cols), len(effective), mobility
     r0 = m_e - (nf - f)
-    basis_rows = _basis_rows(cm, jf, effective, nf - f) if (nf - f >= 1 and r0 >= 0) else None
+    basis_rows = _basis_rows(cm, jf, effective, nf - f, tol) if (nf - f >= 1 and r0 >= 0) else None
     fast = basis_rows is not None
-    if fast:
+    if fast and kernel:
         je = jf[list(effective), :]
         js = jf[list(basis_rows), :]
         p_in = _unit_rows(cm.inputs[:, free_cols]) if cm.inputs.shape[0] else ca.SX(0, nf)
@@ -547,7 +556,7 @@ def _functions(cm: CasadiModel, mobility: int):
     return funcs, effective, basis_rows, fast
 
 
-def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
+def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT, kernel: bool = True) -> Evaluators:
     """CasADi evaluators of ``mech`` (G, J, closure residual, parameter rows, indicators).
 
     Parameters
@@ -556,7 +565,12 @@ def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
         Its configuration supplies the fixed nodes, the closure parameters ``p0`` and the
         choices made once (degenerate bodies, rods).
     tolerances : Tolerances
-        Only ``geometry`` is used (to recognise degenerate bodies, as the core does).
+        ``geometry`` recognises degenerate bodies (as the core does); ``rank`` chooses
+        the independent rows ``J_S`` at a generic configuration.
+    kernel : bool
+        Build the indicator kernel (``indicators``, ``indicators_batch``, ``motion``) now;
+        with False it is built on first use (paths, which need only the closure and the
+        rows, do not pay for it).
 
     Returns
     -------
@@ -576,8 +590,16 @@ def evaluators(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Evaluators:
     True
     """
     cm = build(mech, tolerances)
-    funcs, effective, basis, fast = _functions(cm, mech.mobility_value)
-    return Evaluators(mech=mech, model=cm, functions=dict(funcs), q_labels=cm.q_labels,
+    funcs, effective, basis, fast = _functions(cm, mech.mobility_value, tolerances.rank, kernel)
+    functions, symbolic = _Functions(funcs), _Functions(funcs)
+    if fast and not kernel:
+        def build_kernel() -> None:
+            full = _functions(cm, mech.mobility_value, tolerances.rank)[0]
+            for target in (functions, symbolic):
+                target._build = None
+                target.update({k: full[k] for k in KERNEL_FUNCTIONS if k in full})
+        functions._build = symbolic._build = build_kernel
+    return Evaluators(mech=mech, model=cm, functions=functions, q_labels=cm.q_labels,
                       p_labels=cm.p_labels, p0=cm.p0, row_owners=cm.owners,
                       effective_rows=effective, basis_rows=basis or (), fast=fast,
-                      _symbolic=dict(funcs))
+                      _symbolic=symbolic)

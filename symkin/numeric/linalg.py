@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["svd_null_space", "rank_and_null_space", "left_null_space", "rref", "normal_basis",
-           "affine_hull"]
+           "affine_hull", "independent_rows"]
 
 
 def svd_null_space(a: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray, int]:
@@ -103,3 +103,28 @@ def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.nda
     scale = s[0] if s.size and s[0] > 0 else 1.0
     h = int(np.count_nonzero(s > tol * scale))
     return h, vt[:h], vt[h:]
+
+
+def independent_rows(a: np.ndarray, tol: float, count: int | None = None) -> tuple[int, ...]:
+    """Indices (ascending) of well-conditioned independent rows of ``a``, at most ``count`` of them.
+
+    QR with column pivoting of ``aᵀ``: the rank is the number of ``|R_kk| > tol · |R_00|``
+    (relative, so scale invariant), and the rows are the first ``min(rank, count)``
+    pivots.  This is the one choice of the independent constraint rows ``J_S`` (made once
+    by the evaluators at a generic configuration, and by :func:`symkin.analyze` at its
+    configuration) and of the rows that the path's square corrector and bifurcation test
+    keep.  ``len(result)`` is the rank of ``a`` when ``count`` is None.
+
+    >>> independent_rows(np.array([[1.0, 0.0], [2.0, 0.0], [0.0, 3.0]]), 1e-8)
+    (1, 2)
+    """
+    from scipy.linalg import qr
+
+    a = np.asarray(a, dtype=float)
+    if a.size == 0:
+        return ()
+    _, r, piv = qr(a.T, pivoting=True, mode="economic")
+    d = np.abs(np.diag(r))
+    rank = int(np.count_nonzero(d > tol * d[0])) if d.size and d[0] > 0 else 0
+    take = rank if count is None else min(rank, count)
+    return tuple(sorted(int(k) for k in piv[:take]))

@@ -8,28 +8,34 @@ not redundant: ``m + F − 1 = n − 1``), one CasADi Function computes, from ``
 * ``t_next = A⁻¹ e_n / ‖A⁻¹ e_n‖``: the tangent at ``y`` oriented along ``t``.
 
 The symbolic factorisation is generated once as straight-line code; the function is
-compiled to C (cached on disk, keyed by the model's content hash, the path's inputs and the
-CasADi version) and called through CasADi's buffer interface, which removes the per-call
+compiled to C through the one artefact cache of :mod:`symkin.numeric.codegen`
+(:func:`~symkin.numeric.codegen.cached_library`: keyed by the model's content hash, the
+path's inputs, the CasADi version, the generating sources, compiler and flags; written
+atomically) and called through CasADi's buffer interface, which removes the per-call
 overhead of a plain ``Function`` call.  Without a C compiler the in-process Function is
 used (same numbers, slower).  Over-constrained systems (non-square ``A``) keep the
 least-squares corrector of :mod:`symkin.paths.continuation`.
 
 Redundant equations (over-constrained mechanisms, bodies with more nodes than a frame)
 are handled by keeping ``n − 1`` independent rows chosen at the start (QR with column
-pivoting); the other rows are consistent with them on the closure manifold.  Should the
+pivoting, :func:`symkin.numeric.linalg.independent_rows`); the other rows are consistent with them on the closure manifold.  Should the
 kept rows lose rank later on the path, the continuation falls back to the least-squares
 corrector for that step.
 """
 from __future__ import annotations
 
-import hashlib
 import math
 import warnings
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
 
 from symkin.errors import NotConvergedError
+from symkin.numeric.codegen import (DEFAULT_FLAGS, CompilerError, artefact_key, cache_directory, cached_library,
+                                    find_compiler)
+from symkin.numeric.linalg import independent_rows
+from symkin.tolerances import DEFAULT
 
 __all__ = ["GeneratedCorrector", "generated_corrector"]
 
@@ -93,20 +99,17 @@ _CACHE: dict[str, GeneratedCorrector | None] = {}
 
 
 def _rows_to_keep(curve) -> list[int] | None:
-    """All rows of H for a square system; for redundant rows, n − 1 independent ones at the start."""
+    """All rows of H for a square system; for redundant rows, n − 1 well-conditioned independent ones at the start."""
     j0 = curve.jacobian(curve.y0())
     m, n = j0.shape
     if m + 1 == n:
         return list(range(m))
     if m + 1 < n:
         return None
-    from scipy.linalg import qr
-
-    _, r, piv = qr(j0.T, pivoting=True, mode="economic")
-    diag = np.abs(np.diag(r))
-    if diag.size < n - 1 or diag[n - 2] <= 1e-8 * diag[0]:
+    keep = independent_rows(j0, DEFAULT.rank, n - 1)
+    if len(keep) < n - 1:
         return None  # fewer than n − 1 independent rows at the start: no square system
-    return sorted(int(k) for k in piv[: n - 1])
+    return list(keep)
 
 
 def _build_function(curve) -> ca.Function | None:
@@ -127,10 +130,13 @@ def _build_function(curve) -> ca.Function | None:
                        ["y", "t", "y_pred"], ["y_next", "residual", "step", "t_next"])
 
 
-def _key(curve) -> str:
+def _key(curve, compiler: str, flags) -> str:
+    """The corrector's cache key (:func:`symkin.numeric.codegen.artefact_key`)."""
+    from symkin.paths import system
+
     parts = [curve.mech.content_hash(), curve.drive.label, *(c.label for c in curve.held),
-             *(repr(v) for v in curve.held_values), ca.__version__, "corrector-v1"]
-    return hashlib.sha256("|".join(parts).encode()).hexdigest()[:24]
+             *(repr(v) for v in curve.held_values), "corrector-v2"]
+    return artefact_key(parts, compiler, flags, sources=(Path(__file__), Path(system.__file__)))
 
 
 def generated_corrector(curve, compile: bool = True) -> GeneratedCorrector | None:
@@ -140,7 +146,8 @@ def generated_corrector(curve, compile: bool = True) -> GeneratedCorrector | Non
     cached under the symkin cache directory (``SYMKIN_CACHE``); if the compiler is missing or
     fails, a warning says so and the in-process Function is used.
     """
-    key = _key(curve) + ("c" if compile else "vm")
+    compiler = find_compiler()
+    key = _key(curve, compiler, DEFAULT_FLAGS) + ("c" if compile else "vm")
     if key in _CACHE:
         return _CACHE[key]
     f = _build_function(curve)
@@ -150,24 +157,22 @@ def generated_corrector(curve, compile: bool = True) -> GeneratedCorrector | Non
     result = GeneratedCorrector(f, compiled=False)
     if compile:
         try:
-            result = GeneratedCorrector(_compiled(f, key), compiled=True)
-        except Exception as exc:  # noqa: BLE001 - any build problem falls back to the in-process function
+            result = GeneratedCorrector(_compiled(f, key[:-1], compiler), compiled=True)
+        except (CompilerError, OSError, RuntimeError) as exc:  # no compiler, unwritable cache, bad library
             warnings.warn(f"symkin: generated corrector not compiled ({exc}); using the in-process "
                           "CasADi function", stacklevel=2)
     _CACHE[key] = result
     return result
 
 
-def _compiled(f: ca.Function, key: str) -> ca.Function:
-    from symkin.numeric.codegen import build_library, cache_directory, load_library
-
-    directory = cache_directory() / "paths"
-    directory.mkdir(parents=True, exist_ok=True)
+def _compiled(f: ca.Function, key: str, compiler: str) -> ca.Function:
     stem = f"corrector_{key}"
-    so_path = directory / f"{stem}.so"
-    if not so_path.exists():
+
+    def write_sources(tmp: Path) -> Path:
         cg = ca.CodeGenerator(f"{stem}.c", {"with_header": False})
         cg.add(f)
-        cg.generate(str(directory) + "/")
-        build_library(directory / f"{stem}.c", so_path)
-    return load_library(so_path, ["corrector"])["corrector"]
+        cg.generate(str(tmp) + "/")
+        return tmp / f"{stem}.c"
+
+    return cached_library(cache_directory() / "paths", stem, write_sources, ["corrector"], compiler,
+                          DEFAULT_FLAGS)["corrector"]

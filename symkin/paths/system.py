@@ -1,11 +1,15 @@
 """The position problem of a mechanism as a curve ``H(y) = 0`` for continuation (paper §IV-A).
 
 ``y = q / ℓ`` are the free nodal coordinates made dimensionless by the model's length
-scale ``ℓ``.  ``H`` stacks the closure equations ``Φ(q)/ℓ`` (CasADi expressions from
-:mod:`symkin.numeric.casadi_model`) and, for a mechanism with F > 1, the F − 1 *held*
+scale ``ℓ``.  ``H`` stacks the closure equations ``Φ(q)/ℓ`` and, for a mechanism with F > 1, the F − 1 *held*
 input combinations, so that the solution set is the 1-D curve along which the driving
-input moves (a straight segment in input space).  Residual, Jacobian, second derivatives,
-the drive and the geometric / parameter rows are CasADi Functions of ``y``.
+input moves (a straight segment in input space).  Residual, Jacobian, second derivatives
+and the drive are CasADi Functions of ``y``.
+
+The curve is built on the mechanism's evaluators (:func:`symkin.analysis.batch.evaluators_for`,
+shared per model content): ``Φ`` is the closure expression of ``symkin.evaluators(mech)``
+and the geometric / parameter rows at a point are its ``J`` and ``parameters`` Functions,
+so that paths, batch evaluation and :func:`symkin.analyze` see the same rows.
 """
 from __future__ import annotations
 
@@ -14,9 +18,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from symkin.analysis.batch import Evaluators, evaluators_for
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.numeric.casadi_model import build
 from symkin.paths.coordinates import LinearInput, input_coordinates, parse_input_label, segment_inputs
 
 __all__ = ["MechanismCurve"]
@@ -42,7 +46,8 @@ class MechanismCurve:
         self._fast = False
         if len(self.held) != len(self.held_values):
             raise ValueError("one held value per held input")
-        self.model = build(self.mech)
+        self.evaluators: Evaluators = evaluators_for(self.mech)
+        self.model = self.evaluators.model
         self.scale = self.mech.length_scale
         self.x0 = np.array([c for _, c in self.mech.nodes], dtype=float)
         self.free = self.model.free
@@ -69,11 +74,6 @@ class MechanismCurve:
                                ["y", "v"], ["d2H"])
         self._drive = ca.Function("drive", [y], [drive, ca.jacobian(drive, y).T / drive_scale],
                                   ["y"], ["value", "gradient"])
-        free_idx = np.flatnonzero(self.free).tolist()
-        jf = ca.substitute(m.Jf, m.q, self.scale * y)
-        pin = ca.substitute(m.inputs[:, free_idx], m.q, self.scale * y)
-        pout = ca.substitute(m.outputs[:, free_idx], m.q, self.scale * y)
-        self._rows = ca.Function("rows", [y], [jf, pin, pout], ["y"], ["Jf", "inputs", "outputs"])
 
     # ------------------------------------------------------------------ coordinates
     def q_of(self, y: np.ndarray) -> np.ndarray:
@@ -116,9 +116,15 @@ class MechanismCurve:
         return float(np.array(self._drive(y)[1]).ravel() @ t)
 
     def rows(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Geometric rows ``J_f`` and input / output parameter rows at ``y`` (free coordinates)."""
-        jf, pin, pout = self._rows(y)
-        return np.array(jf), np.array(pin), np.array(pout)
+        """Geometric rows ``J_f`` and input / output parameter rows at ``y`` (free coordinates).
+
+        From the evaluators' ``J`` and ``parameters`` Functions at ``q = ℓ y``.
+        """
+        fn = self.evaluators.functions
+        q = ca.DM(self.q_of(y))
+        jf = np.array(fn["J"](q)[1])
+        pin, pout = (np.array(v)[:, self.free] for v in fn["parameters"](q)[:2])
+        return jf, pin, pout
 
     def mechanism_at(self, y: np.ndarray) -> Mechanism:
         return self.mech.with_coordinates(self.x_of(y))

@@ -5,8 +5,8 @@ with pseudo-arclength steps (:mod:`symkin.paths.continuation`), evaluates indica
 every accepted point, and refines every event to machine precision
 (:mod:`symkin.paths.events`):
 
-* ``DKP-input`` — sign change of ``det[J_sel; P̂_in] / sqrt(det(J_sel J_selᵀ))`` (J_sel:
-  independent geometric rows chosen at the start, P̂_in: unit input rows), which equals
+* ``DKP-input`` — sign change of ``det[J_S; P̂_in] / sqrt(det(J_S J_Sᵀ))`` (J_S: the
+  evaluators' independent geometric rows, P̂_in: unit input rows), which equals
   ``± det(P̂_in V)`` for an orthonormal motion-space basis V: a turning point of the input
   when F = 1;
 * ``DKP-output`` — the same with the output rows (or, when the outputs are not F
@@ -14,11 +14,15 @@ every accepted point, and refines every event to machine precision
 * ``bifurcation`` — sign change of ``det[J_H; tᵀ]``, the augmented Jacobian of the
   continuation: a simple branch point (IM);
 * ``IM`` — a near-zero minimum of ``σ_{F+1}`` (the square root of the paper's IM indicator,
-  which touches zero without changing sign), for tangent branch points;
+  which touches zero without changing sign; ``J`` is dimensionless), for tangent branch points;
 * ``end`` — the input reaches the requested value.
 
-Every located event is classified by :func:`symkin.analyze`, and bifurcations get the
-second-order branch analysis of :mod:`symkin.paths.branching`.
+The DKP and IM tests, and the indicators recorded at every point, are values of the one
+definition in :mod:`symkin.analysis.indicators`, on the rows of the mechanism's evaluators
+(so ``ev.batch`` and :func:`symkin.analyze` give the same numbers at the same
+configurations).  Minimum tests accept an event below ``Tolerances.event_threshold``;
+every located event is classified by :func:`symkin.analyze` with the same tolerances, and
+bifurcations get the second-order branch analysis of :mod:`symkin.paths.branching`.
 """
 from __future__ import annotations
 
@@ -28,20 +32,20 @@ from typing import Callable
 
 import numpy as np
 
+from symkin.analysis import indicators
 from symkin.analysis.classification import Analysis, analyze
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.paths.branching import Bifurcation, branch_directions, refine_singular_point
 from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
+from symkin.numeric.linalg import independent_rows
 from symkin.paths.events import CurveEvent, TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.paths.system import MechanismCurve, make_curve
-from symkin.tolerances import DEFAULT
+from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
 
-_IM_DETECT = 0.05   # a local minimum of σ_{F+1} below this is refined
-_IM_ACCEPT = 1e-7   # ... and is an IM event when the refined minimum is below this
-_NEAR_IM = 1e-5     # an event located where σ_{F+1} is below this is refined as a branch point
+_IM_DETECT = 0.05   # a local minimum of σ_{F+1} below this is refined (accepted: Tolerances.event)
 _FLAT = 1e-9        # a signed test below this at both ends of a step is identically zero there
 _ROOT = 1e-6        # a located root must bring the test below this fraction of its bracket values
 
@@ -193,71 +197,101 @@ class _Counting:
         return self.problem.second_derivative(y, v)
 
 
-def _independent_rows(a: np.ndarray, count: int) -> list[int]:
-    """Indices of ``count`` well-conditioned independent rows of ``a`` (QR with column pivoting)."""
-    from scipy.linalg import qr
+class _PointIndicators:
+    """The indicators of :mod:`symkin.analysis.indicators` at points of a curve, once per point.
 
-    _, _, piv = qr(a.T, pivoting=True, mode="economic")
-    return sorted(int(k) for k in piv[:count])
+    Rows come from the mechanism's evaluators (:meth:`MechanismCurve.rows`); ``J_S`` are
+    the evaluators' independent rows (chosen at ``y0`` by the same rule when the
+    evaluators have none), so the values equal those of ``ev.batch`` and
+    :func:`symkin.analyze` at the same configuration.
+    """
+
+    def __init__(self, curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances):
+        self.curve, self.tolerances = curve, tolerances
+        self.f = curve.mech.mobility_value
+        ev = curve.evaluators
+        self.js_rows = ev.basis_rows or indicators.basis_rows(curve.rows(y0)[0], self.f, tolerances)
+        self._y: np.ndarray | None = None
+        self._values: dict = {}
+
+    def __call__(self, y: np.ndarray) -> dict:
+        if self._y is not None and np.array_equal(self._y, y):
+            return self._values
+        f = self.f
+        jf, pin, pout = self.curve.rows(y)
+        nf = jf.shape[1]
+        if jf.shape[0]:
+            _, s, vt = np.linalg.svd(jf, full_matrices=True)
+        else:
+            s, vt = np.zeros(0), np.eye(nf)
+        s_full = np.zeros(nf)
+        s_full[: s.size] = s
+        ascending = np.sort(s_full)
+        values = {"im_indicator": float(indicators.im_indicator(s_full, f)) if f < nf else None,
+                  "im_sigma": float(ascending[f]) if f < nf else math.inf}
+        v = vt[nf - f:].T  # the F directions least constrained: the motion space where L = F
+        js = None if self.js_rows is None else jf[list(self.js_rows)]
+        for key, p in (("input", pin), ("output", pout)):
+            k = p.shape[0]
+            if k == 0:
+                continue
+            p_hat = indicators.unit_rows(p)[0]
+            sv = indicators.restricted_singular_values(p_hat, v)
+            values[f"dkp_{key}"] = float(indicators.dkp_value(p_hat, sv, f, js))
+            values[f"sigma_{key}"] = float(sv[min(f, k) - 1]) if sv.size else 0.0  # the deciding one
+        self._y, self._values = np.array(y, copy=True), values
+        return values
 
 
-def _unit_rows(p: np.ndarray) -> np.ndarray:
-    n = np.linalg.norm(p, axis=1, keepdims=True)
-    return p / np.where(n > 0, n, 1.0)
+@dataclass(frozen=True)
+class _Value:
+    """Test function ``(y, t) -> point(y)[key]``: a value of the indicators' definition."""
+
+    point: _PointIndicators
+    key: str
+
+    def __call__(self, y, t) -> float:
+        return self.point(y)[self.key]
 
 
-def _test_functions(curve: MechanismCurve, y0: np.ndarray) -> list[TestFunction]:
-    """Signed DKP / bifurcation determinants and the IM minimum test (see module docstring)."""
-    mech = curve.mech
-    f = mech.mobility_value
-    jf, pin, pout = curve.rows(y0)
-    nf = jf.shape[1]
-    sel = _independent_rows(jf, nf - f) if nf - f > 0 else []
+def _test_functions(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = DEFAULT) -> list[TestFunction]:
+    """Signed DKP / bifurcation determinants and the IM minimum test (see module docstring).
+
+    The DKP and IM tests are values of :mod:`symkin.analysis.indicators` (signed
+    ``dkp_value`` for F parameter rows, else the deciding restricted singular value;
+    ``σ_{F+1}`` of the dimensionless ``J``, whose largest singular value is of order 1);
+    minimum tests accept an event below ``tolerances.event_threshold``.
+    """
+    f = curve.mech.mobility_value
+    point = _PointIndicators(curve, y0, tolerances)
+    _, pin, pout = curve.rows(y0)
     jh = curve.jacobian(y0)
-    sel_h = _independent_rows(jh, jh.shape[1] - 1)
+    sel_h = list(independent_rows(jh, tolerances.rank, jh.shape[1] - 1))
+    accept = tolerances.event_threshold
     tests = []
-
-    def det_with(rows_index):
-        """det[J_sel; P̂] / sqrt(det(J_sel J_selᵀ)) = ± det(P̂ V): signed, dimensionless, |·| <= 1."""
-        def fn(y, t):
-            j, a, b = curve.rows(y)
-            js = j[sel]
-            extra = _unit_rows((a, b)[rows_index])
-            gram = float(np.linalg.det(js @ js.T)) if len(sel) else 1.0
-            return float(np.linalg.det(np.vstack([js, extra]))) / math.sqrt(max(gram, np.finfo(float).tiny))
-        return fn
-
     if pin.shape[0] == f and f > 0:
-        tests.append(TestFunction("DKP-input", det_with(0)))
+        tests.append(TestFunction("DKP-input", _Value(point, "dkp_input")))
     if pout.shape[0] == f and f > 0:
-        tests.append(TestFunction("DKP-output", det_with(1)))
+        tests.append(TestFunction("DKP-output", _Value(point, "dkp_output")))
     elif pout.shape[0] > 0:
-        def out_sigma(y, t):
-            j, _, b = curve.rows(y)
-            v = np.linalg.svd(j, full_matrices=True)[2][np.linalg.matrix_rank(j):].T
-            s = np.linalg.svd(_unit_rows(b) @ v, compute_uv=False)
-            return float(s[min(f, len(s)) - 1]) if len(s) else 0.0
-        tests.append(TestFunction("DKP-output", out_sigma, signed=False, threshold=_IM_ACCEPT))
+        tests.append(TestFunction("DKP-output", _Value(point, "sigma_output"), signed=False, threshold=accept))
 
     def bif(y, t):
         return float(np.linalg.det(np.vstack([curve.jacobian(y)[sel_h], t[None, :]])))
     tests.append(TestFunction("bifurcation", bif))
-
-    def im_sigma(y, t):
-        j, _, _ = curve.rows(y)
-        s = np.sort(np.concatenate([np.linalg.svd(j, compute_uv=False), np.zeros(max(0, nf - j.shape[0]))]))
-        return float(s[f]) if f < s.size else math.inf
-    tests.append(TestFunction("IM", im_sigma, signed=False, threshold=_IM_ACCEPT))
+    tests.append(TestFunction("IM", _Value(point, "im_sigma"), signed=False, threshold=accept))
     return tests
 
 
 def _indicators(tests: list[TestFunction], y, t) -> dict:
-    vals = {tf.name: tf.f(y, t) for tf in tests}
-    out = {"im_indicator": vals["IM"] ** 2 if math.isfinite(vals["IM"]) else None,
-           "im_sigma": vals["IM"], "bifurcation": vals["bifurcation"]}
-    for k in ("DKP-input", "DKP-output"):
-        if k in vals:
-            out[k] = vals[k]
+    """Recorded at every path point: the indicators' definition (``DKP-*`` as :func:`~symkin.analysis.indicators.dkp_value`)."""
+    point = next(tf.f.point for tf in tests if isinstance(tf.f, _Value))
+    vals = point(y)
+    out = {"im_indicator": vals["im_indicator"], "im_sigma": vals["im_sigma"],
+           "bifurcation": next(tf.f(y, t) for tf in tests if tf.name == "bifurcation")}
+    for k, key in (("DKP-input", "dkp_input"), ("DKP-output", "dkp_output")):
+        if any(tf.name == k for tf in tests):
+            out[k] = vals[key]
     return out
 
 
@@ -271,7 +305,7 @@ def _unwrap(value: float, reference: float, kind: str) -> float:
 def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: float = 0.0, stop: float = 2 * math.pi,
           unit: str = "rad", max_arclength: float | None = None, settings: Settings | None = None,
           progress: Callable[[float], None] | None = None, branch_analysis: bool = True,
-          steps: int | None = None) -> Path:
+          steps: int | None = None, tol: float | Tolerances | None = None) -> Path:
     """Move ``mech`` by its input from ``start`` to ``stop`` and locate every singular configuration.
 
     Parameters
@@ -294,6 +328,10 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
         most ``|stop − start| / steps`` (the step control may take more, smaller steps).
     progress : callable, optional
         Called with the fraction of the input range covered (for a progress bar).
+    tol : float or Tolerances, optional
+        The rank tolerance (a float) or all tolerances, as in :func:`symkin.analyze`:
+        minimum tests accept an event below ``event · rank`` and every event is
+        classified by ``analyze(..., tol=tol)`` (see :class:`~symkin.tolerances.Tolerances`).
 
     Returns
     -------
@@ -310,6 +348,7 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
     """
     if unit not in ("rad", "deg"):
         raise SymkinError(f"unit must be 'rad' or 'deg', got {unit!r}")
+    tolerances = Tolerances.of(tol)
     curve = make_curve(mech, input)
     conv = math.pi / 180.0 if (unit == "deg" and curve.drive.kind == "angle") else 1.0
     start, stop = start * conv, stop * conv
@@ -321,19 +360,25 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
         y0, _, res = newton(counted, y0)
     if start != 0.0:
         y0 = _move_to(counted, curve, y0, start, settings, unit)
-    _check_regular_start(curve, y0, drive_label=curve.drive.label)
+    _check_regular_start(curve, y0, drive_label=curve.drive.label, tolerances=tolerances)
     max_change = abs(stop - start) / steps if steps else None
     return _run(counted, curve, y0, start, stop, max_arclength, settings, progress, branch_analysis,
-                max_change=max_change, unit=unit)
+                max_change=max_change, unit=unit, tolerances=tolerances)
 
 
-def _check_regular_start(curve: MechanismCurve, y0: np.ndarray, drive_label: str) -> None:
-    """A path cannot start where its curve branches (the tangent is not defined there)."""
-    s = np.linalg.svd(curve.jacobian(y0), compute_uv=False)
-    n = curve.jacobian(y0).shape[1]
+def _check_regular_start(curve: MechanismCurve, y0: np.ndarray, drive_label: str,
+                         tolerances: Tolerances = DEFAULT) -> None:
+    """A path cannot start where its curve branches (the tangent is not defined there).
+
+    The augmented Jacobian ``J_H`` (dimensionless) branches when its second-smallest
+    singular value is at most ``tolerances.rank · max(σ_max, 1)``.
+    """
+    jh = curve.jacobian(y0)
+    s = np.linalg.svd(jh, compute_uv=False)
+    n = jh.shape[1]
     s_full = np.sort(np.concatenate([s, np.zeros(max(0, n - s.size))]))
-    if s_full.size >= 2 and s_full[1] <= 1e-8 * max(s_full[-1], 1.0):
-        a = analyze(curve.mech.with_coordinates(curve.x_of(y0)))
+    if s_full.size >= 2 and s_full[1] <= tolerances.rank * max(s_full[-1], 1.0):
+        a = analyze(curve.mech.with_coordinates(curve.x_of(y0)), tol=tolerances)
         raise SymkinError(
             f"{curve.mech.name}: the start configuration is a branch point of the path driven by "
             f"{drive_label} (types {', '.join(a.types) or 'none'}, L = {a.dof}): the direction of motion "
@@ -367,15 +412,16 @@ def _kind(test_name: str) -> str:
     return "IM" if test_name in ("bifurcation", "IM") else test_name
 
 
-def _nullity(problem, y: np.ndarray) -> int:
+def _nullity(problem, y: np.ndarray, rank: float = DEFAULT.rank) -> int:
     """Nullity of the curve's Jacobian at ``y`` at the classifier's rank tolerance (``Tolerances.rank``)."""
     j = problem.jacobian(y)
     s = np.linalg.svd(j, compute_uv=False)
     top = float(s.max()) if s.size else 0.0
-    return j.shape[1] - int(np.count_nonzero(s > DEFAULT.rank * top))
+    return j.shape[1] - int(np.count_nonzero(s > rank * top))
 
 
-def _polish(problem, y: np.ndarray, tol: float = _CLOSURE, max_iterations: int = 8) -> np.ndarray:
+def _polish(problem, y: np.ndarray, tol: float = _CLOSURE, max_iterations: int = 8,
+            rank: float = DEFAULT.rank) -> np.ndarray:
     """Project a located event onto the closure ``H(y) = 0`` (paper eq. 5, made dimensionless).
 
     Gauss–Newton with minimum-norm steps on the well-conditioned part of the Jacobian
@@ -390,7 +436,7 @@ def _polish(problem, y: np.ndarray, tol: float = _CLOSURE, max_iterations: int =
     for _ in range(max_iterations):
         if res <= tol:
             break
-        dy = np.linalg.lstsq(problem.jacobian(y), -r, rcond=DEFAULT.rank)[0]
+        dy = np.linalg.lstsq(problem.jacobian(y), -r, rcond=rank)[0]
         r_new = problem.residual(y + dy)
         res_new = float(np.linalg.norm(r_new))
         if not res_new < res:
@@ -399,7 +445,7 @@ def _polish(problem, y: np.ndarray, tol: float = _CLOSURE, max_iterations: int =
     return y
 
 
-def _higher_rank_drop(problem, y: np.ndarray, radius: float) -> np.ndarray:
+def _higher_rank_drop(problem, y: np.ndarray, radius: float, rank: float = DEFAULT.rank) -> np.ndarray:
     """The isolated point of higher nullity next to a branch point ``y``, when there is one.
 
     When the next singular value of the Jacobian is small as well (below ``_IM_DETECT``
@@ -413,25 +459,25 @@ def _higher_rank_drop(problem, y: np.ndarray, radius: float) -> np.ndarray:
     j = problem.jacobian(y)
     n = j.shape[1]
     s = np.sort(np.concatenate([np.linalg.svd(j, compute_uv=False), np.zeros(max(0, n - j.shape[0]))]))
-    base = _nullity(problem, y)
+    base = _nullity(problem, y, rank)
     if base < 2 or base + 1 > s.size or s[base] > _IM_DETECT * s[-1]:
         return y
     y_hi, converged = refine_rank_drop(problem, y, base)
-    if converged and np.linalg.norm(y_hi - y) <= radius and _nullity(problem, y_hi) > base:
+    if converged and np.linalg.norm(y_hi - y) <= radius and _nullity(problem, y_hi, rank) > base:
         return y_hi
     return y
 
 
 def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, settings, progress,
          branch_analysis, record: bool = True, t0: np.ndarray | None = None,
-         max_change: float | None = None, unit: str = "rad") -> Path:
+         max_change: float | None = None, unit: str = "rad", tolerances: Tolerances = DEFAULT) -> Path:
     mech = curve.mech
     kind = curve.drive.kind
     scale_in = 1.0 if kind == "angle" else curve.scale
     direction = 1.0 if stop >= start else -1.0
     if t0 is None:
         t0 = _initial_tangent(curve, y0, direction)
-    tests = _test_functions(curve, y0) if record else []
+    tests = _test_functions(curve, y0, tolerances) if record else []
     max_s = 60.0 if max_arclength is None else float(max_arclength)
     reference = {"value": start}
 
@@ -461,21 +507,21 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
         y, t, s = ev.y, ev.t, ev.s
         kind_ = _kind(ev.name)
         evaluations = ev.evaluations
-        if kind_ != "IM" and im_test is not None and im_test.f(y, t) < _NEAR_IM:
+        if kind_ != "IM" and im_test is not None and im_test.f(y, t) < tolerances.near_branch:
             near = locate_minimum(counted, im_test, lo, CurvePoint(y, t, s), hi)
             kind_ = "IM"
             if near is not None:
                 y, t, s, evaluations = near.y, near.t, near.s, evaluations + near.evaluations
         if kind_ == "IM":
             y_ref, _ = refine_singular_point(counted, y)
-            if _nullity(counted, y_ref) >= _nullity(counted, y):
+            if _nullity(counted, y_ref, tolerances.rank) >= _nullity(counted, y, tolerances.rank):
                 y, t = y_ref, tangent(counted, y_ref, t)
-            y = _higher_rank_drop(counted, y, float(np.linalg.norm(hi.y - lo.y)))
-        y = _polish(counted, y)
+            y = _higher_rank_drop(counted, y, float(np.linalg.norm(hi.y - lo.y)), tolerances.rank)
+        y = _polish(counted, y, rank=tolerances.rank)
         reference["value"] = ref
         value = input_of(y)
         for item in found:
-            if np.linalg.norm(item["y"] - y) < DEFAULT.same_configuration:
+            if np.linalg.norm(item["y"] - y) < tolerances.same_configuration:
                 item["tests"].append(ev.name)
                 if _KIND_ORDER.index(kind_) < _KIND_ORDER.index(item["kind"]):
                     item.update(kind=kind_, y=y, t=t, input=value, s=s)
@@ -542,14 +588,15 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
     events = []
     for item in sorted(found, key=lambda it: it["s"]):
         x = curve.x_of(item["y"])
-        analysis = analyze(mech.with_coordinates(x))
-        bif = branch_directions(counted, item["y"]) if (branch_analysis and item["kind"] == "IM") else None
+        analysis = analyze(mech.with_coordinates(x), tol=tolerances)
+        bif = (branch_directions(counted, item["y"], rank_tol=tolerances.event_threshold)
+               if (branch_analysis and item["kind"] == "IM") else None)
         events.append(PathEvent(item["kind"], item["input"], item["s"], x, analysis, item["value"],
                                 item["evaluations"], curve.drive.absolute(mech, x), bif, item["y"], item["t"],
                                 tuple(dict.fromkeys(item["tests"]))))
     if end_event is not None:
         ev, value = end_event
-        y_end = _polish(counted, ev.y)
+        y_end = _polish(counted, ev.y, rank=tolerances.rank)
         points.append(_point(curve, y_end, value, ev.s, tests, ev.t))
         if record:
             events.append(PathEvent("end", value, ev.s, curve.x_of(y_end), None, ev.value, ev.evaluations,
@@ -599,12 +646,14 @@ def _point(curve, y, value, s, tests, t) -> PathPoint:
 
 def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float = 1.0,
                   stop: float | None = None, unit: str = "rad", max_arclength: float = 20.0,
-                  settings: Settings | None = None) -> Path:
+                  settings: Settings | None = None, tol: float | Tolerances | None = None) -> Path:
     """Continue from a bifurcation event along one of its branches.
 
     ``branch`` indexes ``event.bifurcation.directions``; ``sign`` picks the half-branch.
     The returned path's first point is the bifurcation point itself (arclength 0).
+    ``tol`` is used for the events and their classification, as in :func:`trace`.
     """
+    tolerances = Tolerances.of(tol)
     ev = path.events[event] if isinstance(event, int) else event
     if ev.bifurcation is None or ev.bifurcation.status != "simple":
         status = ev.bifurcation.status if ev.bifurcation else "not analysed"
@@ -623,7 +672,8 @@ def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float =
     value1 = curve.input_value(y1)
     target = stop * conv if stop is not None else value1 + (1e9 if curve.drive_rate(y1, direction) >= 0 else -1e9)
     t1 = tangent(counted, y1, direction)
-    sub = _run(counted, curve, y1, value1, target, max_arclength, settings, None, True, t0=t1, unit=unit)
-    tests = _test_functions(curve, y1)
+    sub = _run(counted, curve, y1, value1, target, max_arclength, settings, None, True, t0=t1, unit=unit,
+               tolerances=tolerances)
+    tests = _test_functions(curve, y1, tolerances)
     first = _point(curve, ev.y, ev.input, 0.0, tests, direction)
     return replace(sub, points=(first,) + sub.points)

@@ -47,6 +47,7 @@ from functools import lru_cache
 import numpy as np
 import sympy as sp
 from sympy import QQ
+from sympy.polys.polyerrors import CoercionFailed
 from sympy.polys.rings import ring
 
 from symkin.errors import SymkinError
@@ -1330,7 +1331,7 @@ def _gram_form(sm, rows: list[SymRow]) -> sp.Expr | None:
     ``sin²u = 1 − cos²u`` where that shortens it: e.g. ``sin²(φ−θ) + sin²(ψ−θ)``."""
     try:
         R, prows, back = _gram_matrix(sm, rows)
-    except Exception:  # a coefficient outside QQ (should not happen): no Gram form
+    except (ValueError, CoercionFailed):  # a coefficient outside QQ (should not happen): no Gram form
         return None
     det = _laplace_det(R, prows, list(range(len(rows))))
     if len(det) > GRAM_TERMS:

@@ -1,0 +1,178 @@
+"""The one definition of the singularity indicators and of the IM / DKP decisions.
+
+Every stage that needs an indicator calls these functions: :func:`symkin.analyze`
+(one configuration), the batch evaluators (:mod:`symkin.analysis.batch`, N configurations
+in stacked arrays) and path tracing (:mod:`symkin.paths.trace`, one point of a path).
+Each function takes stacked arrays (any leading axes) so that one definition serves all.
+The generated CasADi form of the same quantities (the ``indicators`` Function of
+:mod:`symkin.numeric.evaluators`) is kept equal to these by the tests.
+
+With ``J`` the dimensionless constraint rows over the free coordinates (``G = JᵀJ``),
+``F`` the mobility, ``V`` an orthonormal basis of the motion space and ``P̂`` kinematic
+parameter rows scaled to unit norm (paper §IV):
+
+* **unit parameter rows** — ``P̂ = P / ‖P‖`` over the free coordinates (:func:`unit_rows`);
+* **IM indicator** — ``λ_{F+1}``, the first eigenvalue of the reduced G above its F generic
+  zeros (§IV-A, Fig. 3), from the singular values of ``J`` (:func:`im_indicator`);
+* **IM decision** — ``L > F`` with ``L`` the number of singular values ``<= tol · σ_max``
+  (:func:`instantaneous_dof`, :func:`is_im`);
+* **DKP decision** — ``rank(P̂ V) < min(F, k)``, singular values of ``P̂ V`` compared with
+  the absolute ``tol`` (eqs. 12-13, 16-17; :func:`is_dkp`);
+* **DKP value** — for ``k = F`` rows, ``det[J_S; P̂] / sqrt(det(J_S J_Sᵀ)) = ±det(P̂ V)``,
+  signed and dimensionless (``J_S`` the ``nf − F`` independent constraint rows chosen by
+  :func:`symkin.numeric.linalg.independent_rows`); otherwise the product of the
+  ``min(k, F)`` singular values of ``P̂ V`` (:func:`dkp_value`).  Both vanish exactly at
+  DKP configurations and are defined only where ``L = F``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from symkin.numeric.linalg import independent_rows
+from symkin.tolerances import Tolerances
+
+__all__ = ["unit_rows", "padded_singular_values", "im_indicator", "rank_threshold", "instantaneous_dof",
+           "is_im", "restricted_singular_values", "is_dkp", "dkp_value", "basis_rows"]
+
+
+def unit_rows(p: np.ndarray, free: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Parameter rows scaled to unit norm over the free coordinates: ``(P̂, norms)``.
+
+    ``p`` has shape ``(..., k, D)``; the norm of each row is taken over the columns in
+    the boolean mask ``free`` (all columns when None).  A zero row is left as it is (its
+    returned norm is 1).  Relations found on ``P̂`` become physical coefficients by
+    dividing by ``norms``.
+
+    >>> unit_rows(np.array([[3.0, 4.0]]))[0].tolist()
+    [[0.6, 0.8]]
+    """
+    p = np.asarray(p, dtype=float)
+    pf = p if free is None else p[..., free]
+    norms = np.linalg.norm(pf, axis=-1) if pf.size else np.zeros(pf.shape[:-1])
+    safe = np.where(norms > 0, norms, 1.0)
+    return p / safe[..., None], safe
+
+
+def padded_singular_values(j: np.ndarray, nf: int) -> np.ndarray:
+    """Singular values of ``j`` (..., m, nf), descending, padded with ``nf − m`` structural zeros."""
+    j = np.asarray(j, dtype=float)
+    lead = j.shape[:-2]
+    out = np.zeros(lead + (nf,))
+    if j.shape[-2] and nf:
+        s = np.linalg.svd(j, compute_uv=False)
+        out[..., : s.shape[-1]] = s
+    return out
+
+
+def im_indicator(singular_values: np.ndarray, mobility: int) -> np.ndarray:
+    """``λ_{F+1}``: the (F+1)-th smallest eigenvalue ``σ²`` of the reduced G (§IV-A).
+
+    ``singular_values`` (..., nf) of the reduced ``J`` including the structural zeros, in
+    any order.  NaN when ``F >= nf``.  It vanishes at increased-mobility configurations.
+
+    >>> float(im_indicator(np.array([2.0, 0.0, 0.5]), 1))
+    0.25
+    """
+    s = np.sort(np.asarray(singular_values, dtype=float), axis=-1)
+    if mobility >= s.shape[-1]:
+        return np.full(s.shape[:-1], np.nan)
+    return s[..., mobility] ** 2
+
+
+def rank_threshold(singular_values: np.ndarray, tol: Tolerances) -> np.ndarray:
+    """``tol.rank · σ_max``: singular values of ``J`` at or below it count as zero."""
+    s = np.asarray(singular_values, dtype=float)
+    return tol.rank * (np.max(s, axis=-1) if s.shape[-1] else np.zeros(s.shape[:-1]))
+
+
+def instantaneous_dof(singular_values: np.ndarray, threshold) -> np.ndarray:
+    """``L``: number of singular values (padded, see :func:`padded_singular_values`) ``<= threshold``."""
+    s = np.asarray(singular_values, dtype=float)
+    return s.shape[-1] - np.count_nonzero(s > np.asarray(threshold)[..., None], axis=-1)
+
+
+def is_im(dof, mobility: int):
+    """Increased mobility: ``L > F`` (§III, Fig. 9)."""
+    return np.asarray(dof) > mobility
+
+
+def restricted_singular_values(p_hat: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Singular values of ``P̂ V`` (..., min(k, L)), descending: the restricted parameter rows.
+
+    ``p_hat`` (..., k, nf) unit rows over the free coordinates, ``v`` (..., nf, L) an
+    orthonormal basis of the motion space.
+    """
+    m = np.asarray(p_hat, dtype=float) @ np.asarray(v, dtype=float)
+    if m.shape[-1] == 0 or m.shape[-2] == 0:
+        return np.zeros(m.shape[:-2] + (0,))
+    return np.linalg.svd(m, compute_uv=False)
+
+
+def is_dkp(restricted: np.ndarray, k: int, mobility: int, tol: Tolerances):
+    """DKP test: ``rank(P̂ V) < min(F, k)``, singular values compared with ``tol.rank`` (eq. 12, 16).
+
+    ``restricted`` are the singular values from :func:`restricted_singular_values` (the
+    rows are unit and V orthonormal, so the absolute threshold is scale invariant).
+    False when there are no such parameters (``k = 0``).
+    """
+    s = np.asarray(restricted, dtype=float)
+    if k == 0:
+        return np.zeros(s.shape[:-1], bool)
+    return np.count_nonzero(s > tol.rank, axis=-1) < min(mobility, k)
+
+
+def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.ndarray | None = None):
+    """The DKP indicator of ``k`` unit parameter rows at a configuration with ``L = F``.
+
+    For ``k = F`` and ``J_S`` given (``nf − F`` independent constraint rows, (..., nf − F, nf)):
+    ``det[J_S; P̂] / sqrt(det(J_S J_Sᵀ))``, which equals ``±det(P̂ V)``: signed, changes sign
+    through a DKP configuration (a turning point of the input when F = 1).  Otherwise the
+    product of the ``min(k, F)`` singular values ``restricted`` of ``P̂ V`` (non-negative).
+    NaN when ``k = 0``.  Where ``J_S`` loses rank (IM) the value means nothing; the
+    division is floored at the smallest normal float so that it stays finite there.
+
+    Examples
+    --------
+    The four-bar of the appendix, output rows (rocker DC): ``±det(P̂ V)`` from a plain
+    SVD equals the signed determinant.
+
+    >>> from symkin.model.catalogue import get
+    >>> from symkin.analysis.motion_space import motion_space
+    >>> from symkin.numeric.geometric_matrix import constraint_rows, free_mask, parameters_matrix
+    >>> mech = get("fourbar_appendix")
+    >>> ms, free = motion_space(mech), free_mask(mech)
+    >>> p_hat = unit_rows(parameters_matrix(mech, mech.outputs)[0][:, free])[0]
+    >>> jf = constraint_rows(mech).matrix[:, free]
+    >>> js = jf[list(basis_rows(jf, 1, Tolerances()))]
+    >>> v = ms.V[free]
+    >>> d = dkp_value(p_hat, restricted_singular_values(p_hat, v), 1, js)
+    >>> bool(abs(abs(d) - abs(np.linalg.det(p_hat @ v))) < 1e-14)
+    True
+    """
+    p_hat = np.asarray(p_hat, dtype=float)
+    k = p_hat.shape[-2]
+    lead = p_hat.shape[:-2]
+    if k == 0:
+        return np.full(lead, np.nan)
+    if k == mobility and js is not None and js.shape[-2] + k == p_hat.shape[-1]:
+        js = np.asarray(js, dtype=float)
+        gram = np.linalg.det(js @ np.swapaxes(js, -1, -2)) if js.shape[-2] else np.ones(lead)
+        vol = np.sqrt(np.maximum(gram, np.finfo(float).tiny))  # J_S rank-deficient only at IM
+        return np.linalg.det(np.concatenate([np.broadcast_to(js, lead + js.shape[-2:]), p_hat], axis=-2)) / vol
+    s = np.asarray(restricted, dtype=float)
+    return np.prod(s[..., : min(k, mobility)], axis=-1)
+
+
+def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances) -> tuple[int, ...] | None:
+    """The ``nf − F`` independent constraint rows ``J_S`` of ``jf`` (m, nf), or None.
+
+    :func:`symkin.numeric.linalg.independent_rows` (the rule the evaluators apply once, at a
+    generic configuration; here it is applied at the configuration of ``jf``: where every
+    effective row is needed, as in most mechanisms, both give all of them); None when
+    ``jf`` has fewer than ``nf − F`` independent rows here (an IM configuration).
+    """
+    count = jf.shape[1] - mobility
+    if count <= 0:
+        return ()
+    rows = independent_rows(jf, tol.rank, count)
+    return rows if len(rows) == count else None

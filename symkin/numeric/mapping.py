@@ -1,0 +1,187 @@
+"""Evaluation of the evaluators' Functions over N configurations (numbers, no decisions).
+
+No Python loop runs per configuration: Functions are evaluated by ``Function.map`` in
+chunks through CasADi's buffer interface (zero-copy NumPy views), or through the
+generated ``*_batch`` loops.  The decisions built on these numbers (IM, DKP) belong to
+the analysis stage: :mod:`symkin.analysis.batch`.
+"""
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+from symkin.errors import NotConvergedError, SymkinError
+
+__all__ = ["map_function", "project", "fast_caller", "as_configurations"]
+
+_CHUNK = 4096
+
+
+# ---------------------------------------------------------------------- mapping
+def _chunk_size(n: int) -> int:
+    return min(_CHUNK, 1 << max(0, (n - 1).bit_length()))
+
+
+def as_configurations(ev, configurations) -> np.ndarray:
+    """``configurations`` as a C-contiguous (N, nf) array; a clear error for a wrong shape."""
+    q = np.asarray(configurations, dtype=float)
+    if q.ndim == 1:
+        q = q[None, :]
+    if q.ndim != 2 or q.shape[1] != ev.nf:
+        raise SymkinError(f"configurations must be an (N, {ev.nf}) array of free coordinates "
+                          f"({', '.join(ev.q_labels)}), got shape {np.shape(configurations)}")
+    return np.ascontiguousarray(q)
+
+
+def _mapped(ev, name: str, size: int):
+    """Cached ``(map Function, buffer, trigger)`` of Function ``name`` for ``size`` configurations."""
+    key = ("map", name, size, id(ev.functions[name]))
+    hit = ev._cache.get(key)
+    if hit is None:
+        f = ev.functions[name]
+        reduce_in = [1] if f.n_in() == 2 else []
+        fm = f if size == 1 else f.map(f"{name}_map{size}", "serial", size, reduce_in, [])
+        buf, trig = fm.buffer()
+        hit = (f, fm, buf, trig)
+        ev._cache[key] = hit
+    return hit
+
+
+def map_function(ev, name: str, configurations, p=None) -> dict[str, np.ndarray]:
+    """Evaluate Function ``name`` of ``ev`` at every row of ``configurations``.
+
+    Returns a dict, by output name, of arrays of shape ``(N, rows, cols)`` (``(N, rows)``
+    for column outputs).  ``p`` (closure parameters, shared by all) defaults to ``ev.p0``.
+    """
+    q = as_configurations(ev, configurations)
+    n = q.shape[0]
+    f = ev.functions[name]
+    outs = []
+    for i in range(f.n_out()):
+        r, c = f.size_out(i)
+        outs.append(np.empty((n, c, r)))
+    start = 0
+    block = ev.functions.get(f"{name}_batch")
+    if block is not None and n >= block.size_in(0)[1]:
+        # whole blocks through the generated loop (no CasADi Map layer)
+        size = block.size_in(0)[1]
+        buf, trig = _buffer(ev, f"{name}_batch")
+        start = (n // size) * size
+        for s0 in range(0, start, size):
+            buf.set_arg(0, memoryview(q[s0: s0 + size]))
+            for i, o in enumerate(outs):
+                buf.set_res(i, memoryview(o[s0: s0 + size]))
+            trig()
+    if start < n:
+        _evaluate(ev, name, q[start:], [o[start:] for o in outs], p)
+    result = {}
+    for i, o in enumerate(outs):
+        r, c = f.size_out(i)
+        arr = o.transpose(0, 2, 1)
+        result[f.name_out(i)] = arr[:, :, 0] if c == 1 else arr
+    return result
+
+
+def _buffer(ev, name: str):
+    key = ("buffer", name, id(ev.functions[name]))
+    hit = ev._cache.get(key)
+    if hit is None:
+        hit = ev.functions[name].buffer()
+        ev._cache[key] = hit
+    return hit
+
+
+def _evaluate(ev, name: str, q: np.ndarray, outs: list, p) -> None:
+    """Evaluate ``name`` at the rows of ``q`` into ``outs`` (arrays (n, cols, rows))."""
+    n = q.shape[0]
+    f = ev.functions[name]
+    size = _chunk_size(n)
+    _, _, buf, trig = _mapped(ev, name, size)
+    pvec = None
+    if f.n_in() == 2:
+        pvec = np.ascontiguousarray(ev.p0 if p is None else np.asarray(p, dtype=float).ravel())
+        if pvec.size != f.numel_in(1):
+            raise SymkinError(f"p must have {f.numel_in(1)} entries ({', '.join(ev.p_labels)})")
+    pad_q = pad_out = None
+    for start in range(0, n, size):
+        stop = min(start + size, n)
+        if stop - start == size:
+            qa, ra = q[start:stop], [o[start:stop] for o in outs]
+        else:  # last partial chunk: pad
+            pad_q = np.zeros((size, q.shape[1]))
+            pad_q[: stop - start] = q[start:stop]
+            pad_q[stop - start:] = q[start]
+            pad_out = [np.empty((size,) + o.shape[1:]) for o in outs]
+            qa, ra = pad_q, pad_out
+        buf.set_arg(0, memoryview(qa))
+        if pvec is not None:
+            buf.set_arg(1, memoryview(pvec))
+        for i, o in enumerate(ra):
+            buf.set_res(i, memoryview(o))
+        trig()
+        if pad_out is not None and ra is pad_out:
+            for o, po in zip(outs, pad_out):
+                o[start:stop] = po[: stop - start]
+
+
+class _Single:
+    """Buffer-interface caller of ``indicators`` for one configuration at a time."""
+
+    def __init__(self, f: ca.Function):
+        self.q = np.zeros(f.numel_in(0))
+        self.r = np.zeros(f.n_out())
+        self.buf, self.trig = f.buffer()
+        self.buf.set_arg(0, memoryview(self.q))
+        for i in range(f.n_out()):
+            self.buf.set_res(i, memoryview(self.r[i: i + 1]))
+
+    def __call__(self, q) -> np.ndarray:
+        self.q[:] = q
+        self.trig()
+        return self.r
+
+
+def fast_caller(ev):
+    """A function ``q -> ndarray`` of the 7 indicator values (no decisions), minimal overhead.
+
+    The returned array is reused by the next call; copy it to keep it.
+    """
+    key = ("single", id(ev.functions["indicators"]))
+    caller = ev._cache.get(key)
+    if caller is None:
+        caller = _Single(ev.functions["indicators"])
+        ev._cache[key] = caller
+    return caller
+
+
+# ---------------------------------------------------------------------- projection
+def project(ev, configurations, p=None, tol: float = 1e-12, max_iter: int = 25) -> np.ndarray:
+    """Newton projection of configurations onto ``phi(q, p) = 0`` (minimum-norm steps).
+
+    Converged when ``max |phi| <= tol · length_scale``.  Returns an array like the input.
+    """
+    q = as_configurations(ev, configurations).copy()
+    scale = ev.mech.length_scale
+    active = np.arange(q.shape[0])
+    for _ in range(max_iter + 1):
+        if active.size == 0:
+            break
+        res = map_function(ev, "closure_jacobian", q[active], p)
+        phi = res["phi"].reshape(active.size, -1)
+        jac = res["dphi_dq"].reshape((active.size,) + ev.functions["closure_jacobian"].size_out(1))
+        err = np.max(np.abs(phi), axis=1) if phi.size else np.zeros(active.size)
+        done = err <= tol * scale
+        active_next = active[~done]
+        if active_next.size == 0:
+            active = active_next
+            break
+        phi, jac = phi[~done], jac[~done]
+        step = np.linalg.pinv(jac, rcond=1e-12) @ phi[:, :, None]
+        q[active_next] -= step[:, :, 0]
+        active = active_next
+    if active.size:
+        res = map_function(ev, "closure", q[active], p)["phi"]
+        raise NotConvergedError(f"{active.size} configuration(s) did not close within {max_iter} "
+                                "Newton steps", indices=active.tolist(),
+                                residual=float(np.max(np.abs(res))))
+    return q if np.ndim(configurations) == 2 else q[0]
