@@ -44,6 +44,7 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 import casadi as ca
+import numpy as np
 
 __all__ = ["givens_qr", "householder_tridiagonal", "charpoly", "sturm_count", "laguerre_steps",
            "eigenvalue_above", "smallest_eigenvalue", "det", "CERTIFICATE_WIDTH"]
@@ -54,6 +55,9 @@ CERTIFICATE_WIDTH = 1e-12
 PHASES = (4, 3)
 #: evaluations of the characteristic polynomial in :func:`smallest_eigenvalue`
 ITERATIONS = 6
+#: rounding allowed for the reduction to tridiagonal form, in units of ``ε·tr(A)``
+ROUNDING = 1.0
+_EPS = float(np.finfo(float).eps)
 
 
 def _zero(x) -> bool:
@@ -254,8 +258,9 @@ def eigenvalue_above(diag: Sequence, off: Sequence, r0: int, phases: tuple[int, 
     certified : SX (0 or 1)
         1 when Sturm counts prove that the start lay below ``λ_{r0+1}`` (for ``r0 > 0``)
         and that ``λ_{r0+1}`` lies within a relative ``width`` of ``value``: no more than
-        ``r0`` eigenvalues below ``value·(1 - width)``, at least ``r0 + 1`` below
-        ``value·(1 + width)``.
+        ``r0`` eigenvalues below ``value·(1 - width/2)``, at least ``r0 + 1`` below
+        ``value·(1 + width/2)``, the other half of the width covering the rounding of the
+        reduction to tridiagonal form (see ``_certificate``).
     """
     n = len(diag)
     off2 = [b * b for b in off]
@@ -279,17 +284,26 @@ def eigenvalue_above(diag: Sequence, off: Sequence, r0: int, phases: tuple[int, 
     direction = ca.if_else(have, -1, 1)
     for _ in range(phase2):
         est = laguerre_steps(diag, off2, est, (1,), direction, r0)[0]
-    ok = _certificate(diag, off2, est, r0, width)
+    ok = _certificate(diag, off2, est, r0, width, trace)
     if r0:
         ok = ca.logic_and(ok, start_ok)
     return est, ok
 
 
-def _certificate(diag, off2, est, r0: int, width: float):
-    """Sturm counts proving ``λ_{r0+1} ∈ [est·(1 - width), est·(1 + width)]``."""
-    half = width * ca.fabs(est)
-    return ca.logic_and(sturm_count(diag, off2, est - half) == r0,
-                        sturm_count(diag, off2, est + half) >= r0 + 1)
+def _certificate(diag, off2, est, r0: int, width: float, trace):
+    """1 when ``λ_{r0+1}`` of the matrix reduced to ``T`` lies within a relative ``width`` of ``est``.
+
+    Sturm counts prove that ``λ_{r0+1}(T)`` lies within half of that interval
+    (``est·(1 ± width/2)``); the other half must cover the rounding of the reduction to
+    ``T`` (forming ``J_e J_eᵀ`` and the Householder steps, a backward error of order
+    ``ε‖A‖``), allowed for as ``ROUNDING·ε·tr(A)`` (``tr A ≥ ‖A‖₂`` for the PSD
+    ``A``).  So nothing is certified when the eigenvalue is too small, relative to the
+    matrix, for double precision to resolve it to ``width`` (near increased mobility).
+    """
+    half = 0.5 * width * ca.fabs(est)
+    counts = ca.logic_and(sturm_count(diag, off2, est - half) == r0,
+                          sturm_count(diag, off2, est + half) >= r0 + 1)
+    return ca.logic_and(counts, ROUNDING * _EPS * ca.fabs(trace) <= half)
 
 
 def smallest_eigenvalue(diag: Sequence, off: Sequence, iterations: int = ITERATIONS,
@@ -319,8 +333,9 @@ def smallest_eigenvalue(diag: Sequence, off: Sequence, iterations: int = ITERATI
     value : SX
     certified : SX (0 or 1)
         1 when Sturm counts prove that ``λ_1`` lies within a relative ``width`` of
-        ``value``: no eigenvalue below ``value·(1 - width)``, at least one below
-        ``value·(1 + width)`` (the certificate of :func:`eigenvalue_above`).
+        ``value`` (the certificate of :func:`eigenvalue_above`): no eigenvalue below
+        ``value·(1 - width/2)``, at least one below ``value·(1 + width/2)``, and the
+        rounding of the reduction to tridiagonal form within the other half.
     """
     n = len(diag)
     if n == 1:
@@ -340,7 +355,7 @@ def smallest_eigenvalue(diag: Sequence, off: Sequence, iterations: int = ITERATI
         below = count == 0
         x = ca.if_else(below, ca.fmax(right1, right2), ca.if_else(count == 1, left1, safe))
         safe = ca.if_else(below, right1, safe)
-    return x, _certificate(diag, off2, x, 0, width)
+    return x, _certificate(diag, off2, x, 0, width, trace)
 
 
 # ---------------------------------------------------------------------- determinant
