@@ -66,7 +66,7 @@ import numpy as np
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.casadi_model import CasadiModel, build
 from symkin.numeric.sx_linalg import (det, eigenvalue_above, givens_qr, householder_tridiagonal,
-                                      smallest_eigenvalue)
+                                      reciprocal, smallest_eigenvalue)
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["Evaluators", "evaluators", "INDICATOR_NAMES", "FUNCTION_NAMES"]
@@ -121,7 +121,7 @@ def _unit_rows(p: ca.SX) -> ca.SX:
     rows = []
     for i in range(p.shape[0]):
         nr = ca.sqrt(ca.sumsqr(p[i, :]))
-        rows.append(p[i, :] / ca.if_else(nr > 0, nr, 1))
+        rows.append(p[i, :] * reciprocal(nr, 1))
     return ca.vertcat(*rows) if rows else p
 
 

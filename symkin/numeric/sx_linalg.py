@@ -47,7 +47,7 @@ import casadi as ca
 import numpy as np
 
 __all__ = ["givens_qr", "householder_tridiagonal", "charpoly", "sturm_count", "laguerre_steps",
-           "eigenvalue_above", "smallest_eigenvalue", "det", "CERTIFICATE_WIDTH"]
+           "eigenvalue_above", "smallest_eigenvalue", "det", "reciprocal", "CERTIFICATE_WIDTH"]
 
 #: relative half-width of the interval the Sturm certificate of an eigenvalue proves
 CERTIFICATE_WIDTH = 1e-12
@@ -62,6 +62,15 @@ _EPS = float(np.finfo(float).eps)
 
 def _zero(x) -> bool:
     return isinstance(x, ca.SX) and x.is_zero()
+
+
+def reciprocal(y, at_zero=ca.inf):
+    """``1 / y`` as one reciprocal that CasADi keeps (``at_zero`` where ``y == 0``).
+
+    CasADi rewrites ``a * (1 / y)`` as ``a / y``; a selection keeps the reciprocal, so
+    several quotients by ``y`` cost one division and multiplications.
+    """
+    return ca.if_else(y == 0, at_zero, 1 / y)
 
 
 # ---------------------------------------------------------------------- QR
@@ -103,7 +112,7 @@ def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tupl
             top = a[k][k]
             r = ca.sqrt(top * top + b * b)
             zero = r == 0  # both entries zero: the identity rotation
-            inv = 1 / (r + zero)
+            inv = reciprocal(r, 1)
             c = (top + zero) * inv
             s = b * inv
             rotations.append((k, i, c, s))
@@ -131,22 +140,26 @@ def householder_tridiagonal(sym: ca.SX) -> tuple[list[Any], list[Any]]:
     -------
     diag, off : list of SX
         The ``n`` diagonal and ``n - 1`` sub-diagonal entries of ``T`` (same eigenvalues).
+
+    Notes
+    -----
+    Sums (norms, matrix-vector and inner products) are pairwise (:func:`_pairwise_sum`):
+    the same operations as a running sum, half the dependency depth in the generated C.
     """
     n = sym.shape[0]
     a = [[sym[i, j] for j in range(n)] for i in range(n)]
     for k in range(n - 2):
         x = [a[i][k] for i in range(k + 1, n)]
-        nx = ca.sqrt(sum((xi * xi for xi in x[1:]), x[0] * x[0]))
+        nx = ca.sqrt(_pairwise_sum([xi * xi for xi in x]))
         s = ca.if_else(x[0] < 0, -1, 1)
         alpha = -s * nx
         v = [x[0] - alpha] + x[1:]
-        vv = sum((vi * vi for vi in v[1:]), v[0] * v[0])
+        vv = _pairwise_sum([vi * vi for vi in v])
         beta = 2 / ca.fmax(vv, 1e-300)
         idx = list(range(k + 1, n))
         size = len(idx)
-        p = [beta * sum((a[idx[r]][idx[t]] * v[t] for t in range(1, size)), a[idx[r]][idx[0]] * v[0])
-             for r in range(size)]
-        kk = beta / 2 * sum((v[r] * p[r] for r in range(1, size)), v[0] * p[0])
+        p = [beta * _pairwise_sum([a[idx[r]][idx[t]] * v[t] for t in range(size)]) for r in range(size)]
+        kk = beta / 2 * _pairwise_sum([v[r] * p[r] for r in range(size)])
         w = [p[r] - kk * v[r] for r in range(size)]
         for r in range(size):
             for t in range(r, size):
@@ -158,6 +171,16 @@ def householder_tridiagonal(sym: ca.SX) -> tuple[list[Any], list[Any]]:
     diag = [a[i][i] for i in range(n)]
     off = [a[i + 1][i] for i in range(n - 1)]
     return diag, off
+
+
+def _pairwise_sum(terms: list):
+    """Sum of SX terms as a balanced tree (structural zeros dropped)."""
+    terms = [t for t in terms if not _zero(t)]
+    if not terms:
+        return ca.SX(0)
+    while len(terms) > 1:
+        terms = [terms[i] + terms[i + 1] if i + 1 < len(terms) else terms[i] for i in range(0, len(terms), 2)]
+    return terms[0]
 
 
 # ---------------------------------------------------------------------- characteristic polynomial
@@ -211,11 +234,15 @@ def sturm_count(diag: Sequence, off2: Sequence, x):
     return count
 
 
+def _finite_or(value, fallback):
+    """``value`` where finite, else ``fallback`` (``|v| < inf`` is false for inf and NaN)."""
+    return ca.if_else(ca.fabs(value) < ca.inf, value, fallback)
+
+
 def _laguerre(n, x, g, spread, mult, direction):
     """One Laguerre step from ``x`` for a root of multiplicity ``mult`` (``spread = n·h - g²``)."""
     disc = ca.sqrt(ca.fmax((n / mult - 1) * spread, 0))
-    new = x - n / (g - direction * disc)
-    return ca.if_else(ca.fabs(new) < ca.inf, new, x)  # false for inf and NaN: stay
+    return _finite_or(x - n / (g - direction * disc), x)  # not finite: stay
 
 
 def laguerre_steps(diag: Sequence, off2: Sequence, x, mults=(1,), direction=+1, zeros: int = 0) -> list:
@@ -346,14 +373,17 @@ def smallest_eigenvalue(diag: Sequence, off: Sequence, iterations: int = ITERATI
     safe = x
     for _ in range(iterations):
         p, dp, ddp, count = _charpoly_count(diag, off2, x)
-        inv = 1 / p
+        inv = reciprocal(p)
         g = dp * inv
         spread = n * (g * g - ddp * inv) - g * g
-        right1 = _laguerre(n, x, g, spread, 1, +1)
-        right2 = _laguerre(n, x, g, spread, 2, +1)
-        left1 = _laguerre(n, x, g, spread, 1, -1)
+        disc1 = ca.sqrt(ca.fmax((n - 1) * spread, 0))
+        disc2 = ca.sqrt(ca.fmax((n / 2 - 1) * spread, 0))
         below = count == 0
-        x = ca.if_else(below, ca.fmax(right1, right2), ca.if_else(count == 1, left1, safe))
+        # no eigenvalue below x: the plain step right (safe) and the double-root trial;
+        # exactly one: the plain step left; more: back to the safe point
+        right1 = _finite_or(x - n / (g - disc1), x)
+        trial = _finite_or(x - n / ca.if_else(below, g - disc2, g + disc1), x)
+        x = ca.if_else(below, ca.fmax(right1, trial), ca.if_else(count == 1, trial, safe))
         safe = ca.if_else(below, right1, safe)
     return x, _certificate(diag, off2, x, 0, width, trace)
 
