@@ -23,10 +23,13 @@ configurations (perturbed and projected onto the closure manifold):
     configurations, the two kernels alternating), and the share of configurations each
     one certifies.
 
-and the time to generate, compile and load the C of each model (a fresh cache).  Every
-figure is measured in this run; ratios are to (a).  One process, one thread: NumPy's
-small-matrix LAPACK calls do not use threads.  The load average is printed before and
-after (other jobs slow the Python baseline and the generated code differently).
+and the time to generate, compile and load the C of each model (a fresh cache, wall
+time).  Every figure is measured in this run; ratios are to (a).  Rates are per second of
+the process's CPU time (``time.process_time``), so that other jobs on a shared machine,
+which take the CPU from the Python baseline and from the generated code at different
+moments, do not decide the ratios; they still slow both through shared caches.  The
+load average is printed before and after.  One process, one thread: NumPy's
+small-matrix LAPACK calls do not use threads.
 
 ``--kernel`` picks the IM eigenvalue kernel of (a)-(e): ``fused`` (the current one,
 :func:`symkin.numeric.sx_linalg.smallest_eigenvalue`) or ``laguerre-sturm`` (the previous
@@ -92,20 +95,20 @@ def lambdified_g(mech):
 def baseline(mech, q, f_g, n_loop):
     f = mech.mobility_value
     out = np.empty(n_loop)
-    start = time.perf_counter()
+    start = time.process_time()
     for k in range(n_loop):
         w, v = np.linalg.eigh(f_g(*q[k]))
         out[k] = w[f]  # IM indicator; v[:, :f] the motion space
-    return n_loop / (time.perf_counter() - start), out
+    return n_loop / (time.process_time() - start), out
 
 
 # ---------------------------------------------------------------------- helpers
 def rate(fn, n):
     gc.collect()
     gc.freeze()  # the sympy objects of the baseline should not slow the collector in later timings
-    start = time.perf_counter()
+    start = time.process_time()
     fn()
-    return n / (time.perf_counter() - start)
+    return n / (time.process_time() - start)
 
 
 def configurations(ev, n, seed=0):

@@ -32,9 +32,12 @@ and ``nf - F`` independent ones (``J_S``, :attr:`Evaluators.basis_rows`) are cho
 * ``im`` — the IM indicator ``λ_{F+1}`` of the reduced G (§IV-A, Fig. 3, Fig. 10): the
   eigenvalue ``λ_{r0+1}`` of ``A = J_e J_eᵀ``, whose nonzero eigenvalues are those of
   ``G = J_eᵀ J_e``.  It is computed by Householder tridiagonalisation of ``A`` and
-  Laguerre iterations on its characteristic polynomial, safeguarded by Sturm counts;
-  ``im_certified = 1`` when Sturm counts prove ``λ_{F+1}`` lies within a relative
-  1e-12 of ``im``.
+  Laguerre iterations on its characteristic polynomial, safeguarded by Sturm counts
+  (:func:`~symkin.numeric.sx_linalg.smallest_eigenvalue` when ``r0 = 0``, each
+  evaluation also giving the Sturm count; :func:`~symkin.numeric.sx_linalg.eigenvalue_above`
+  otherwise); ``im_certified = 1`` when Sturm counts prove ``λ_{F+1}`` lies within a
+  relative 1e-12 of ``im``, half of that width left for the rounding of the reduction
+  (``ε·tr A``), so nothing is certified where double precision cannot resolve it.
 * ``trace`` — ``tr(A) = ‖J_free‖_F²`` (bounds ``λ_max``: ``tr/m ≤ λ_max ≤ tr``).
 * ``dkp_input`` / ``dkp_output`` — for ``k = F`` unit-normalised parameter rows ``P̂``
   (eq. 12, 16): ``det([J_S; P̂]) / sqrt(det(J_S J_Sᵀ))``, dimensionless and signed, equal to
