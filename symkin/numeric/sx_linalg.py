@@ -49,7 +49,7 @@ import numpy as np
 __all__ = ["givens_qr", "householder_tridiagonal", "charpoly", "sturm_count", "laguerre_steps",
            "eigenvalue_above", "smallest_eigenvalue", "det", "reciprocal", "CERTIFICATE_WIDTH"]
 
-#: relative half-width of the interval the Sturm certificate of an eigenvalue proves
+#: relative accuracy a certificate proves: |λ - value| <= CERTIFICATE_WIDTH·|value|
 CERTIFICATE_WIDTH = 1e-12
 #: iterations of :func:`eigenvalue_above`: Laguerre with multiplicity-2 trial steps, then plain
 PHASES = (4, 3)
