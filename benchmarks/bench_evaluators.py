@@ -1,8 +1,9 @@
-"""Benchmark of the evaluators (issue 3): configurations per second, ratios to a hand-written baseline.
+"""Benchmark of the evaluators (issue 3, issue 7 §6): configurations per second, ratios to a baseline.
 
-Run on demand (not part of the test suite)::
+Run on demand from a checkout where symkin is installed (not part of the test suite)::
 
-    /work/venv/bin/python benchmarks/bench_evaluators.py [--batch 100000] [--loop 5000] [--json out.json]
+    python benchmarks/bench_evaluators.py [--batch 100000] [--loop 5000] [--models rrr_3 rssr]
+                                          [--kernel fused|laguerre-sturm] [--json out.json]
 
 For the 3-RRR and a spatial example (the RSSR) it measures, in one run and on valid
 configurations (perturbed and projected onto the closure manifold):
@@ -17,10 +18,22 @@ configurations (perturbed and projected onto the closure manifold):
     and ``ev.indicators_at`` (values and the core's IM / DKP decisions);
 (e) ``ev.batch`` over ``--batch`` configurations (``Function.map`` + decisions), compiled and
     in-process, and the orthonormal motion-space bases ``ev.map("motion", ...)``;
+(f) the indicator kernel alone, generated C, for both IM eigenvalue kernels: CasADi
+    instructions and CPU µs per configuration (best of several passes over 4096
+    configurations, the two kernels alternating), and the share of configurations each
+    one certifies.
 
-and the time to generate, compile and load the C of each model (a fresh cache).  Every
-figure is measured in this run; ratios are to (a).  One process, one thread: NumPy's
+and the time to generate, compile and load the C of each model (a fresh cache, wall
+time).  Every figure is measured in this run; ratios are to (a).  Rates are per second of
+the process's CPU time (``time.process_time``), so that other jobs on a shared machine,
+which take the CPU from the Python baseline and from the generated code at different
+moments, do not decide the ratios; they still slow both through shared caches.  The
+load average is printed before and after.  One process, one thread: NumPy's
 small-matrix LAPACK calls do not use threads.
+
+``--kernel`` picks the IM eigenvalue kernel of (a)-(e): ``fused`` (the current one,
+:func:`symkin.numeric.sx_linalg.smallest_eigenvalue`) or ``laguerre-sturm`` (the previous
+one, :func:`symkin.numeric.sx_linalg.eigenvalue_above` with separate Sturm counts).
 """
 from __future__ import annotations
 
@@ -44,6 +57,14 @@ import sympy as sp  # noqa: E402
 import symkin  # noqa: E402
 from symkin.analysis.batch import fast_caller  # noqa: E402
 from symkin.analysis.batch import evaluators  # noqa: E402
+from symkin.numeric import codegen, sx_linalg  # noqa: E402
+from symkin.numeric import evaluators as evaluators_module  # noqa: E402
+
+#: the IM eigenvalue kernels of ``--kernel``: (A = J_e J_eᵀ, r0) → (value, certificate)
+KERNELS = {
+    "fused": evaluators_module._im_kernel,
+    "laguerre-sturm": lambda gram, r0: sx_linalg.eigenvalue_above(*sx_linalg.householder_tridiagonal(gram), r0),
+}
 
 
 # ---------------------------------------------------------------------- the baseline (a)
@@ -74,20 +95,20 @@ def lambdified_g(mech):
 def baseline(mech, q, f_g, n_loop):
     f = mech.mobility_value
     out = np.empty(n_loop)
-    start = time.perf_counter()
+    start = time.process_time()
     for k in range(n_loop):
         w, v = np.linalg.eigh(f_g(*q[k]))
         out[k] = w[f]  # IM indicator; v[:, :f] the motion space
-    return n_loop / (time.perf_counter() - start), out
+    return n_loop / (time.process_time() - start), out
 
 
 # ---------------------------------------------------------------------- helpers
 def rate(fn, n):
     gc.collect()
     gc.freeze()  # the sympy objects of the baseline should not slow the collector in later timings
-    start = time.perf_counter()
+    start = time.process_time()
     fn()
-    return n / (time.perf_counter() - start)
+    return n / (time.process_time() - start)
 
 
 def configurations(ev, n, seed=0):
@@ -96,9 +117,53 @@ def configurations(ev, n, seed=0):
     return ev.project(q)
 
 
+# ---------------------------------------------------------------------- (f) the kernel alone
+def kernel_function(ev, kernel: str) -> ca.Function:
+    """The ``indicators`` Function of ``ev`` with the IM outputs of ``kernel`` (same rows, same DKP)."""
+    cm = ev.model
+    free = np.flatnonzero(cm.free).tolist()
+    je = cm.J[:, free][list(ev.effective_rows), :]
+    r0 = len(ev.effective_rows) - (ev.nf - ev.mobility)
+    outs = ev.symbolic_function("indicators").call([cm.q])
+    lam, ok = KERNELS[kernel](ca.mtimes(je, je.T), r0)
+    return ca.Function(f"indicators_{kernel.replace('-', '_')}", [cm.q], [lam, ok] + outs[2:],
+                       ["q"], list(evaluators_module.INDICATOR_NAMES), {"cse": True})
+
+
+def compiled_map(f: ca.Function, n: int, directory: str) -> ca.Function:
+    """``f`` mapped over ``n`` configurations, generated as C and loaded (default flags)."""
+    fm = f.map(f"{f.name()}_map", "serial", n, [], [])
+    cg = ca.CodeGenerator(f"{f.name()}.c")
+    cg.add(fm)
+    cg.generate(directory + os.sep)
+    so = codegen.build_library(os.path.join(directory, f"{f.name()}.c"),
+                               os.path.join(directory, f"{f.name()}.so"))
+    return ca.external(fm.name(), str(so))
+
+
+def kernel_figures(ev, q: np.ndarray, passes: int = 15) -> dict:
+    """Instructions, CPU µs per configuration and certified share of both kernels (generated C)."""
+    n = 4096
+    qs = ca.DM(np.ascontiguousarray(q[:n]).T)
+    fns, out = {}, {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for kernel in KERNELS:
+            f = kernel_function(ev, kernel)
+            fns[kernel] = compiled_map(f, n, tmp)
+            cert = np.array(fns[kernel](qs)[1]).ravel()
+            out[kernel] = {"instructions": f.n_instructions(), "us": np.inf,
+                           "certified": float(np.mean(cert == 1.0))}
+        for _ in range(passes):  # alternate, keep the best pass of each
+            for kernel, fm in fns.items():
+                start = time.process_time()
+                fm(qs)
+                out[kernel]["us"] = min(out[kernel]["us"], (time.process_time() - start) / n * 1e6)
+    return out
+
+
 def bench(name: str, n_batch: int, n_loop: int) -> dict:
     mech = symkin.catalogue.get(name)
-    results: dict = {"model": name, "nf": None, "rates": {}, "notes": {}}
+    results: dict = {"model": name, "nf": None, "rates": {}, "notes": {}, "kernels": {}}
     t0 = time.perf_counter()
     ev = evaluators(mech)
     results["notes"]["build evaluators [s]"] = time.perf_counter() - t0
@@ -107,6 +172,7 @@ def bench(name: str, n_batch: int, n_loop: int) -> dict:
     ql = q[:n_loop]
     r = results["rates"]
 
+    results["kernels"] = kernel_figures(ev, q)
     f_g = lambdified_g(mech)
     r["(a) sympy.lambdify + numpy eigh, Python loop"], im_base = baseline(mech, ql, f_g, n_loop)
 
@@ -164,6 +230,13 @@ def report(results: dict) -> str:
         lines.append(f"{k.ljust(width)}  {v:12,.0f}  {v / base:12.1f}")
     for k, v in results["notes"].items():
         lines.append(f"  {k}: {v:.3g}" if isinstance(v, float) else f"  {k}: {v}")
+    kernels = results.get("kernels") or {}
+    if kernels:
+        lines.append("(f) indicator kernel, generated C (CPU time, best pass over 4096 configurations):")
+        ref = kernels["laguerre-sturm"]["us"]
+        for k, v in kernels.items():
+            lines.append(f"  IM kernel {k:15s} {v['instructions']:6d} instructions  {v['us']:6.3f} us/configuration"
+                         f"  ({ref / v['us']:.2f}x the laguerre-sturm kernel)  certified {v['certified']:.4f}")
     return "\n".join(lines)
 
 
@@ -172,16 +245,23 @@ def main(argv=None) -> int:
     p.add_argument("--batch", type=int, default=100_000, help="configurations in the batched runs")
     p.add_argument("--loop", type=int, default=5_000, help="configurations in the per-call loops")
     p.add_argument("--models", nargs="+", default=["rrr_3", "rssr"])
+    p.add_argument("--kernel", choices=list(KERNELS), default="fused",
+                   help="IM eigenvalue kernel of the evaluators timed in (a)-(e)")
     p.add_argument("--json", default=None, help="also write the figures to this file")
     args = p.parse_args(argv)
+    if args.kernel != "fused":  # the evaluators are built with the previous kernel
+        evaluators_module._im_kernel = KERNELS[args.kernel]
     print(f"symkin {symkin.__version__}, casadi {ca.__version__}, numpy {np.__version__}, "
           f"sympy {sp.__version__}, Python {platform.python_version()}, {platform.processor() or platform.machine()}")
+    print(f"IM kernel of (a)-(e): {args.kernel}; load average at start: "
+          + " ".join(f"{x:.2f}" for x in os.getloadavg()))
     everything = []
     for name in args.models:
         res = bench(name, args.batch, args.loop)
         everything.append(res)
         print(report(res))
         sys.stdout.flush()
+    print("load average at end: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(everything, fh, indent=1)

@@ -51,7 +51,7 @@ __all__ = ["CodegenWarning", "CompilerError", "DEFAULT_FLAGS", "cache_directory"
 DEFAULT_FLAGS = ("-O3", "-fno-math-errno", "-fPIC", "-shared", "-ffp-contract=off")
 #: modules whose source decides what is generated: their text is part of the cache key,
 #: so a changed symkin never loads a stale library
-_SOURCES = ("casadi_model", "evaluators", "codegen", "geometric_matrix", "linalg")
+_SOURCES = ("casadi_model", "evaluators", "sx_linalg", "codegen", "geometric_matrix", "linalg")
 #: Functions written to the C file, in this order
 GENERATED_FUNCTIONS = ("G", "J", "closure", "closure_jacobian", "parameters", "indicators",
                        "indicators_batch", "motion")

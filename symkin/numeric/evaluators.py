@@ -32,9 +32,12 @@ and ``nf - F`` independent ones (``J_S``, :attr:`Evaluators.basis_rows`) are cho
 * ``im`` — the IM indicator ``λ_{F+1}`` of the reduced G (§IV-A, Fig. 3, Fig. 10): the
   eigenvalue ``λ_{r0+1}`` of ``A = J_e J_eᵀ``, whose nonzero eigenvalues are those of
   ``G = J_eᵀ J_e``.  It is computed by Householder tridiagonalisation of ``A`` and
-  Laguerre iterations on its characteristic polynomial, safeguarded by Sturm counts;
-  ``im_certified = 1`` when Sturm counts prove ``λ_{F+1}`` lies within a relative
-  1e-12 of ``im``.
+  Laguerre iterations on its characteristic polynomial, safeguarded by Sturm counts
+  (:func:`~symkin.numeric.sx_linalg.smallest_eigenvalue` when ``r0 = 0``, each
+  evaluation also giving the Sturm count; :func:`~symkin.numeric.sx_linalg.eigenvalue_above`
+  otherwise); ``im_certified = 1`` when Sturm counts prove ``λ_{F+1}`` lies within a
+  relative 1e-12 of ``im``, half of that width left for the rounding of the reduction
+  (``ε·tr A``), so nothing is certified where double precision cannot resolve it.
 * ``trace`` — ``tr(A) = ‖J_free‖_F²`` (bounds ``λ_max``: ``tr/m ≤ λ_max ≤ tr``).
 * ``dkp_input`` / ``dkp_output`` — for ``k = F`` unit-normalised parameter rows ``P̂``
   (eq. 12, 16): ``det([J_S; P̂]) / sqrt(det(J_S J_Sᵀ))``, dimensionless and signed, equal to
@@ -46,8 +49,10 @@ and ``nf - F`` independent ones (``J_S``, :attr:`Evaluators.basis_rows`) are cho
   (``det / tr^{s-1}`` of its ``s×s`` Gram matrix), used to decide DKP safely; 0 when
   the rows ``J_S`` lose rank (then ``V`` is not the motion space).
 
-``V`` (Function ``motion``) and the DKP values come from a QR factorisation of
-``[J_Sᵀ | P̂ᵀ]`` by Givens rotations (which skip the structural zeros of ``J``).
+``V`` (Function ``motion``) comes from a QR factorisation of ``J_Sᵀ`` by Givens rotations
+(which skip the structural zeros of ``J``), and the DKP values from ``P̂ V``.  The SX linear
+algebra (QR, tridiagonal form, certified eigenvalues, determinants) is in
+:mod:`symkin.numeric.sx_linalg`.
 
 :mod:`symkin.numeric.mapping` evaluates the Functions over many configurations.  These are
 numbers only: the indicators' one definition and the IM / DKP decisions live in the analysis
@@ -68,6 +73,8 @@ import numpy as np
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.casadi_model import CasadiModel, build
 from symkin.numeric.linalg import independent_rows
+from symkin.numeric.sx_linalg import (det, eigenvalue_above, givens_qr, householder_tridiagonal,
+                                      reciprocal, smallest_eigenvalue)
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["Evaluators", "evaluators", "INDICATOR_NAMES", "FUNCTION_NAMES"]
@@ -83,179 +90,40 @@ KERNEL_FUNCTIONS = ("indicators", "indicators_batch", "motion")
 #: configurations per call of ``indicators_batch``
 BATCH = 1024
 
-#: iterations of the eigenvalue kernel (Laguerre with multiplicity-2 trial steps, then plain)
-_PHASE1, _PHASE2 = 4, 3
-#: relative width of the Sturm certificate of ``im``
-_CERT = 1e-12
+# ---------------------------------------------------------------------- indicator helpers
+def _im_kernel(gram: ca.SX, r0: int) -> tuple[ca.SX, ca.SX]:
+    """IM indicator ``λ_{r0+1}`` of ``A = J_e J_eᵀ`` and its 0/1 Sturm certificate.
 
-
-# ---------------------------------------------------------------------- SX linear algebra
-def _givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tuple]]:
-    """QR by Givens rotations of the first ``m`` columns of an (n × c) SX array.
-
-    ``cols[i][j]`` is entry (i, j); rotations skip structural zeros, so the sparsity of
-    the constraint rows is used.  Every rotation has determinant +1 and leaves a
-    non-negative diagonal entry.  Returns the transformed array (``R`` on top of the first
-    ``m`` columns) and the rotations ``(k, i, c, s)`` in the order applied.
+    ``A`` is reduced to tridiagonal form (:func:`~symkin.numeric.sx_linalg.householder_tridiagonal`);
+    ``r0 = 0`` uses :func:`~symkin.numeric.sx_linalg.smallest_eigenvalue`, redundant rows
+    (``r0 > 0``) :func:`~symkin.numeric.sx_linalg.eigenvalue_above`.
     """
-    a = [row[:] for row in cols]
-    n, width = len(a), len(a[0]) if a else 0
-    rotations = []
-    for k in range(m):
-        for i in range(k + 1, n):
-            b = a[i][k]
-            if b.is_zero():
+    diag, off = householder_tridiagonal(gram)
+    if r0 == 0:
+        return smallest_eigenvalue(diag, off)
+    return eigenvalue_above(diag, off, r0)
+
+
+def _motion_basis(rotations: list[tuple], nf: int, f: int) -> ca.SX:
+    """The last ``f`` columns of ``Q = G_1ᵀ ... G_Nᵀ`` for the Givens rotations of :func:`givens_qr`.
+
+    For the QR of ``J_Sᵀ`` (``nf × (nf - f)``) these columns are an orthonormal basis of
+    the null space of ``J_S``: the motion space of eq. 9.
+    """
+    m = nf - f
+    basis = [[ca.SX(1.0 if i == m + j else 0.0) for j in range(f)] for i in range(nf)]
+    for k, i, c, s in reversed(rotations):
+        for j in range(f):
+            bk, bi = basis[k][j], basis[i][j]
+            if bk.is_zero() and bi.is_zero():
                 continue
-            top = a[k][k]
-            r = ca.sqrt(top * top + b * b)
-            zero = r == 0  # both entries zero: the identity rotation
-            c = (top + zero) / (r + zero)
-            s = b / (r + zero)
-            rotations.append((k, i, c, s))
-            for j in range(k, width):
-                akj, aij = a[k][j], a[i][j]
-                if akj.is_zero() and aij.is_zero():
-                    continue
-                a[k][j] = c * akj + s * aij
-                a[i][j] = c * aij - s * akj
-            a[i][k] = ca.SX(0)
-    return a, rotations
-
-
-def _tridiagonal(sym: ca.SX) -> tuple[list[Any], list[Any]]:
-    """Householder tridiagonalisation of a symmetric SX matrix: diagonal and off-diagonal."""
-    n = sym.shape[0]
-    a = [[sym[i, j] for j in range(n)] for i in range(n)]
-    for k in range(n - 2):
-        x = [a[i][k] for i in range(k + 1, n)]
-        nx = ca.sqrt(sum((xi * xi for xi in x[1:]), x[0] * x[0]))
-        s = ca.if_else(x[0] < 0, -1, 1)
-        alpha = -s * nx
-        v = [x[0] - alpha] + x[1:]
-        vv = sum((vi * vi for vi in v[1:]), v[0] * v[0])
-        beta = 2 / ca.fmax(vv, 1e-300)
-        idx = list(range(k + 1, n))
-        size = len(idx)
-        p = [beta * sum((a[idx[r]][idx[t]] * v[t] for t in range(1, size)), a[idx[r]][idx[0]] * v[0])
-             for r in range(size)]
-        kk = beta / 2 * sum((v[r] * p[r] for r in range(1, size)), v[0] * p[0])
-        w = [p[r] - kk * v[r] for r in range(size)]
-        for r in range(size):
-            for t in range(r, size):
-                val = a[idx[r]][idx[t]] - v[r] * w[t] - w[r] * v[t]
-                a[idx[r]][idx[t]] = val
-                a[idx[t]][idx[r]] = val
-        a[k + 1][k] = alpha
-        a[k][k + 1] = alpha
-    diag = [a[i][i] for i in range(n)]
-    off = [a[i + 1][i] for i in range(n - 1)]
-    return diag, off
-
-
-def _charpoly(diag, off2, x):
-    """``p(x) = det(T - xI)`` and its first two derivatives (three-term recurrence)."""
-    p0, p1 = ca.SX(1), diag[0] - x
-    d0, d1 = ca.SX(0), ca.SX(-1)
-    s0, s1 = ca.SX(0), ca.SX(0)
-    for i in range(1, len(diag)):
-        t = diag[i] - x
-        p2 = t * p1 - off2[i - 1] * p0
-        d2 = t * d1 - p1 - off2[i - 1] * d0
-        s2 = t * s1 - 2 * d1 - off2[i - 1] * s0
-        p0, p1, d0, d1, s0, s1 = p1, p2, d1, d2, s1, s2
-    return p1, d1, s1
-
-
-def _sturm(diag, off2, x):
-    """Number of eigenvalues of T below ``x`` (sign changes of the leading minors)."""
-    p0, p1 = ca.SX(1), diag[0] - x
-    count = (p1 < 0)
-    for i in range(1, len(diag)):
-        p2 = (diag[i] - x) * p1 - off2[i - 1] * p0
-        count = count + (p2 * p1 < 0)
-        p0, p1 = p1, p2
-    return count
-
-
-def _laguerre_steps(diag, off2, x, mults=(1,), direction=+1, zeros: int = 0):
-    """Laguerre steps for the roots of ``det(T - xI) / x^zeros`` from ``x``, one per multiplicity.
-
-    ``zeros`` known zero roots are divided out (deflated).  ``direction`` is +1 (the step
-    to the right) or -1 (to the left), or an SX ±1.  A step that is not finite (``x`` on a
-    root) leaves ``x`` unchanged.
-    """
-    n = len(diag) - zeros
-    p, dp, ddp = _charpoly(diag, off2, x)
-    g = dp / p
-    h = g * g - ddp / p
-    if zeros:
-        g = g - zeros / x
-        h = h - zeros / (x * x)
-    spread = n * h - g * g
-    out = []
-    for mult in mults:
-        disc = ca.sqrt(ca.fmax((n / mult - 1) * spread, 0))
-        new = x - n / (g - direction * disc)
-        out.append(ca.if_else(ca.fabs(new) < ca.inf, new, x))  # false for inf and NaN
-    return out
-
-
-def _eigenvalue_above(diag, off, r0: int) -> tuple[Any, Any]:
-    """Eigenvalue ``λ_{r0+1}`` (ascending) of a symmetric tridiagonal matrix, and a 0/1 certificate.
-
-    The ``r0`` smallest eigenvalues are the structural zeros of ``J_e J_eᵀ`` (redundant
-    constraint rows); they are divided out of the characteristic polynomial, and
-    ``r0 = 0`` asks for the smallest.  Laguerre's iteration from a point between
-    ``λ_{r0}`` and ``λ_{r0+1}`` converges monotonically to ``λ_{r0+1}`` and never
-    passes it.  Trial steps for a double root (clusters are common: the legs of a
-    symmetric mechanism give near-double eigenvalues) are accepted when a Sturm count
-    shows they stay below ``λ_{r0+1}``, and otherwise kept as an upper bound when exactly
-    one more eigenvalue lies below them; that bound is then refined by left Laguerre
-    steps, which converge to the root just below it.  The certificate is 1 when Sturm
-    counts prove the start lay below ``λ_{r0+1}`` and the result within a relative
-    ``1e-12`` of it.
-    """
-    n = len(diag)
-    off2 = [b * b for b in off]
-    trace = sum(diag[1:], diag[0])
-    if n == 1:
-        return diag[0], ca.SX(1)
-    lo = (-1e-12 if r0 == 0 else 1e-6) * ca.fabs(trace)
-    start_ok = _sturm(diag, off2, lo) == r0
-    up = ca.SX(ca.inf)
-    have = ca.SX(0)
-    for _ in range(_PHASE1):
-        r1, r2 = _laguerre_steps(diag, off2, lo, (1, 2), +1, r0)
-        count = _sturm(diag, off2, r2)
-        inside = ca.logic_and(count == r0 + 1, r2 < up)
-        up = ca.if_else(inside, r2, up)
-        have = ca.logic_or(have, count == r0 + 1)
-        lo = ca.if_else(count == r0, ca.fmax(r1, r2), r1)
-    # refine the upper bound from above when there is one, else the lower bound from below
-    est = ca.if_else(have, up, lo)
-    direction = ca.if_else(have, -1, 1)
-    for _ in range(_PHASE2):
-        est = _laguerre_steps(diag, off2, est, (1,), direction, r0)[0]
-    width = _CERT * ca.fabs(est)
-    ok = ca.logic_and(_sturm(diag, off2, est - width) == r0, _sturm(diag, off2, est + width) >= r0 + 1)
-    if r0:
-        ok = ca.logic_and(ok, start_ok)
-    return est, ok
-
-
-def _det(m: ca.SX) -> ca.SX:
-    n = m.shape[0]
-    if n == 0:
-        return ca.SX(1)
-    if n == 1:
-        return m[0, 0]
-    if n == 2:
-        return m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
-    if n == 3:
-        return (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1])
-                - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
-                + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]))
-    return ca.det(m)
+            basis[k][j] = c * bk - s * bi
+            basis[i][j] = s * bk + c * bi
+    vmat = ca.SX(nf, f)
+    for i in range(nf):
+        for j in range(f):
+            vmat[i, j] = basis[i][j]
+    return vmat
 
 
 def _unit_rows(p: ca.SX) -> ca.SX:
@@ -263,7 +131,7 @@ def _unit_rows(p: ca.SX) -> ca.SX:
     rows = []
     for i in range(p.shape[0]):
         nr = ca.sqrt(ca.sumsqr(p[i, :]))
-        rows.append(p[i, :] / ca.if_else(nr > 0, nr, 1))
+        rows.append(p[i, :] * reciprocal(nr, 1))
     return ca.vertcat(*rows) if rows else p
 
 
@@ -274,10 +142,10 @@ def _dkp(x: ca.SX, sign: ca.SX) -> tuple[ca.SX, ca.SX]:
     if s == 0:
         return ca.SX(np.nan), ca.SX(np.nan)
     gram = ca.mtimes(x, x.T) if f <= k else ca.mtimes(x.T, x)
-    det_g = _det(gram)
+    det_g = det(gram)
     tr_g = ca.trace(gram)
     bound = det_g / tr_g ** (s - 1) if s > 1 else det_g
-    value = sign * _det(x) if f == k else ca.sqrt(ca.fmax(det_g, 0))
+    value = sign * det(x) if f == k else ca.sqrt(ca.fmax(det_g, 0))
     return value, bound
 
 
@@ -507,23 +375,18 @@ def _functions(cm: CasadiModel, mobility: int, tol: float, kernel: bool = True):
         js = jf[list(basis_rows), :]
         p_in = _unit_rows(cm.inputs[:, free_cols]) if cm.inputs.shape[0] else ca.SX(0, nf)
         p_out = _unit_rows(cm.outputs[:, free_cols]) if cm.outputs.shape[0] else ca.SX(0, nf)
-        k_in, k_out = p_in.shape[0], p_out.shape[0]
         m = nf - f
-        big = ca.horzcat(js.T, p_in.T, p_out.T)
-        cols = [[big[i, j] for j in range(big.shape[1])] for i in range(nf)]
-        qr, rotations = _givens_qr(cols, m)
+        # Givens QR of J_Sᵀ; the motion space V (eq. 9) is the last F columns of
+        # Q = G_1ᵀ ... G_Nᵀ (rotations G applied in order), so Vᵀ P̂ᵀ is the bottom block
+        # of Qᵀ [J_Sᵀ | P̂ᵀ] and det([J_S; P̂]) = ±det(R) det(P̂ V)
+        cols = [[js[j, i] for j in range(m)] for i in range(nf)]
+        qr, rotations = givens_qr(cols, m)
         sign = ca.SX(1)
         for k in range(m):
             sign = sign * ca.sign(qr[k][k])
-        x_in = ca.SX(f, k_in)
-        x_out = ca.SX(f, k_out)
-        for i in range(f):
-            for j in range(k_in):
-                x_in[i, j] = qr[m + i][m + j]
-            for j in range(k_out):
-                x_out[i, j] = qr[m + i][m + k_in + j]
-        d_in, b_in = _dkp(x_in, sign)
-        d_out, b_out = _dkp(x_out, sign)
+        vmat = _motion_basis(rotations, nf, f)
+        d_in, b_in = _dkp(ca.mtimes(vmat.T, p_in.T), sign)
+        d_out, b_out = _dkp(ca.mtimes(vmat.T, p_out.T), sign)
         if r0:
             # the chosen independent rows must keep their rank for V to span the motion space
             r2min = qr[0][0] * qr[0][0]
@@ -533,25 +396,11 @@ def _functions(cm: CasadiModel, mobility: int, tol: float, kernel: bool = True):
             b_in = ca.if_else(valid, b_in, 0)
             b_out = ca.if_else(valid, b_out, 0)
         gram = ca.mtimes(je, je.T)
-        diag, off = _tridiagonal(gram)
-        lam, ok = _eigenvalue_above(diag, off, r0)
+        lam, ok = _im_kernel(gram, r0)
         outs = [lam, ok, ca.trace(gram), d_in, b_in, d_out, b_out]
         funcs["indicators"] = ca.Function("indicators", [q], outs, ["q"], list(INDICATOR_NAMES), opts)
         # the same over BATCH configurations (columns of q), a loop in the generated C
         funcs["indicators_batch"] = funcs["indicators"].map("indicators_batch", "serial", BATCH, [], [])
-        # motion space: the last F columns of Q = G_1ᵀ ... G_Nᵀ (rotations G applied in order)
-        basis = [[ca.SX(1.0 if i == m + j else 0.0) for j in range(f)] for i in range(nf)]
-        for k, i, c, s in reversed(rotations):
-            for j in range(f):
-                bk, bi = basis[k][j], basis[i][j]
-                if bk.is_zero() and bi.is_zero():
-                    continue
-                basis[k][j] = c * bk - s * bi
-                basis[i][j] = s * bk + c * bi
-        vmat = ca.SX(nf, f)
-        for i in range(nf):
-            for j in range(f):
-                vmat[i, j] = basis[i][j]
         funcs["motion"] = ca.Function("motion", [q], [dense(vmat)], ["q"], ["V"], opts)
     return funcs, effective, basis_rows, fast
 
