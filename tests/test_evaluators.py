@@ -289,14 +289,9 @@ def test_bad_configuration_shape_is_a_user_error(evs):
 
 
 # ---------------------------------------------------------------------- indicators
-_UNCERTIFIED = pytest.mark.xfail(strict=True, reason="λ_{F+1} of an overconstrained mechanism with a "
-                                 "triangular coupler is not certified by the Sturm counts at a regular "
-                                 "configuration (the batch then takes the exact path, which agrees)")
-
-
 _ISOLATED = pytest.mark.skip(reason="a flexible structure closes at an isolated, degenerate point (tangent "
                                "circles): there are no closed configurations nearby to sample")
-_MARKS = {"double_parallelogram": _UNCERTIFIED, "collinear_truss": _ISOLATED}
+_MARKS = {"collinear_truss": _ISOLATED}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=_MARKS[n]) if n in _MARKS else n for n in names()])
