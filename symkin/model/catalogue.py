@@ -151,3 +151,28 @@ def get(name: str) -> Mechanism:
     2
     """
     return Mechanism.from_dict(data(name), source=f"catalogue:{name}")
+
+
+# ---------------------------------------------------------------------- Watt six-bar (issue 7 §8)
+@_entry
+def watt_sixbar() -> dict:
+    """Watt II six-bar in a generic configuration: two four-bars in series.
+
+    Ground A-D-F and the rocker D-C-E are the two ternary links (they share joint D): the
+    crank A-B drives the rocker through the coupler B-C, and the rocker drives the output
+    F-G through the link E-G.  Coordinates are non-round on purpose (measured values), so
+    that lengths and body angles have no short exact form.
+
+    >>> from symkin import analyze
+    >>> r = analyze(get("watt_sixbar"))
+    >>> r.dof, r.types
+    (1, ())
+    """
+    return {
+        "name": "Watt II six-bar", "dim": 2, "fixed": ["A", "D", "F"], "mobility": 1,
+        "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "output"}],
+        "nodes": {"A": [0.0, 0.0], "B": [0.3217, 1.1389], "C": [2.4731, 1.8123], "D": [2.9, 0.0],
+                  "E": [3.9473, 2.1568], "F": [5.6042, 0.3117], "G": [5.1812, 2.7436]},
+        "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C", "E"],
+                  "link": ["E", "G"], "output": ["F", "G"]},
+    }
