@@ -209,7 +209,7 @@ def _parameter_edit(data, rng):
     items = data.get(where)
     if not isinstance(items, list):
         return f"{where} not a list"
-    links = list(data.get("links", {})) if isinstance(data.get("links"), dict) else ["x"]
+    links = (list(data["links"]) if isinstance(data.get("links"), dict) else []) or ["x"]
     nodes = _node_names(data) or ["A"]
     item = rng.choice([
         {"rotation": rng.choice(links)}, {"twist": rng.choice(links)}, {"velocity": rng.choice(nodes)},
@@ -303,14 +303,18 @@ def to_toml(data) -> str | None:
 
 
 def _corrupt(text: str, rng: random.Random) -> tuple[str | bytes, str]:
-    """Truncate or damage the serialised text at a random position."""
+    """Truncate, damage or duplicate part of the serialised text at a random position."""
     raw = text.encode("utf-8")
     cut = rng.randrange(len(raw) + 1)
     kind = rng.random()
     if kind < 0.6:
         return raw[:cut], f"truncated at byte {cut}"
-    if kind < 0.8:
+    if kind < 0.75:
         return raw[:cut] + bytes([rng.randrange(256)]) + raw[cut + 1:], f"byte {cut} replaced"
+    if kind < 0.9:                       # a key given twice (duplicate node, link or option)
+        lines = text.splitlines(keepends=True)
+        k = rng.randrange(len(lines))
+        return "".join(lines[:k + 1] + [lines[k]] + lines[k + 1:]), f"line {k + 1} duplicated"
     return raw[:cut] + b"\xff\xfe" + raw[cut:], f"invalid UTF-8 at byte {cut}"
 
 
@@ -333,7 +337,7 @@ def generate_cases(seed: int = SEED, per_base: int = CASES_PER_BASE):
             text = to_toml(data) if suffix == ".toml" else None
             if text is None:
                 suffix = ".json"
-                text = json.dumps(data, ensure_ascii=rng.random() < 0.5)
+                text = json.dumps(data, ensure_ascii=rng.random() < 0.5, indent=rng.choice((None, 1)))
             text = _unraw(text)
             content: str | bytes = text
             if rng.random() < 0.12:
