@@ -1,7 +1,7 @@
 """Constants in printed conditions are numbers, not 30-digit rationals (issue 7 §8).
 
 On a Watt six-bar with measured (non-round) coordinates, ``symkin conditions`` used to print
-trivial factors such as ``1000000000000000*sin(8891842985850289/10000000000000000)/1183462758180417``
+trivial factors such as ``5000000000000000*sin(1832067535502911/2000000000000000)/7025568055324779``
 and geometric factors such as ``sin(theta_link - theta_rocker + 85423171266413/125000000000000)``.
 Every printed condition (text, LaTeX, JSON) must now show short exact forms or floats.
 """
@@ -31,7 +31,7 @@ def assert_short_constants(text: str) -> None:
 
 def test_the_checker_rejects_the_old_output():
     with pytest.raises(AssertionError):
-        assert_short_constants("1000000000000000*sin(8891842985850289/10000000000000000)/1183462758180417")
+        assert_short_constants("5000000000000000*sin(1832067535502911/2000000000000000)/7025568055324779")
     with pytest.raises(AssertionError):
         assert_short_constants(r"\frac{85423171266413}{125000000000000}")
     assert_short_constants("0.656174494225246*sin(theta_rocker - 0.683385370131304) + 3/4 + atan(4/3)")
