@@ -2,7 +2,7 @@
 
 On a Watt six-bar with measured (non-round) coordinates, ``symkin conditions`` used to print
 trivial factors such as ``5000000000000000*sin(1832067535502911/2000000000000000)/7025568055324779``
-and geometric factors such as ``sin(theta_link - theta_rocker + 85423171266413/125000000000000)``.
+and geometric factors with such a rational inside (``sin(theta_link - theta_rocker + p/q)``).
 Every printed condition (text, LaTeX, JSON) must now show short exact forms or floats.
 """
 from __future__ import annotations
