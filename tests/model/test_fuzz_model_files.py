@@ -378,8 +378,12 @@ def run_cli(path: Path) -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
+N_CASES = len(_bases()) * CASES_PER_BASE
+
+
 @pytest.mark.slow
-def test_random_edits_end_in_analysis_or_model_error(tmp_path):
+@pytest.mark.parametrize("n_cases", [N_CASES], ids=[f"{N_CASES}_cases"])      # the count shows in -v
+def test_random_edits_end_in_analysis_or_model_error(tmp_path, n_cases):
     outcomes = {"analysis": 0, "ModelError": 0}
     failures, cli_runs = [], 0
     for index, (case_id, suffix, content, edits) in enumerate(generate_cases()):
@@ -402,7 +406,7 @@ def test_random_edits_end_in_analysis_or_model_error(tmp_path):
     print(f"\nfuzz: {tried} cases tried ({outcomes['analysis']} analysed, {outcomes['ModelError']} ModelError), "
           f"{cli_runs} through the CLI, {len(failures)} failures")
     assert not failures, f"{len(failures)} of {tried} cases failed:\n" + "\n".join(failures[:30])
-    assert tried == len(_bases()) * CASES_PER_BASE >= 3000
+    assert tried == n_cases >= 3000
     assert cli_runs >= 300
     # the edits must exercise both outcomes, not only rejections
     assert outcomes["analysis"] >= 100 and outcomes["ModelError"] >= 1000
