@@ -11,12 +11,14 @@ from __future__ import annotations
 import importlib.util
 import json
 import math
+import re
 import sys
+import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Claim", "Checklist", "find_examples_dir", "discover", "run_check", "run_all"]
+__all__ = ["Claim", "Checklist", "find_examples_dir", "discover", "run_check", "run_all", "file_slug"]
 
 
 @dataclass(frozen=True)
@@ -86,6 +88,50 @@ def _fmt(value: Any) -> str:
     return str(value)
 
 
+#: symbols spelled out in file names (others: Greek letters by name, accents dropped)
+_SPELLED = {"−": "-", "–": "-", "—": "-", "§": "sec", "°": "deg", "×": "x", "±": "pm", "→": "to",
+            "≤": "le", "≥": "ge", "∥": "parallel", "µ": "u", "′": "p", "″": "pp"}
+
+
+def _ascii(ch: str) -> str:
+    """An ASCII spelling of one character (empty when it has none)."""
+    if ch.isascii():
+        return ch
+    if ch in _SPELLED:
+        return _SPELLED[ch]
+    base = "".join(c for c in unicodedata.normalize("NFKD", ch) if c.isascii())
+    if base:
+        return base                                          # é -> e
+    name = unicodedata.name(ch, "")
+    if name.startswith("GREEK") and "LETTER" in name:
+        word = name.split()[-1].lower()
+        return {"lamda": "lambda"}.get(word, word)
+    return ""
+
+
+def file_slug(text: str) -> str:
+    """A file-name stem a shell user can type: ASCII letters, digits, ``-`` and ``_`` only.
+
+    Symbols are spelled out (λ → lambda, − → -, § → sec, ° → deg), accents dropped, and
+    every other run of characters becomes one ``_``.
+
+    >>> file_slug("path at λ = −90° (position c)")
+    'path_at_lambda_-90deg_position_c'
+    >>> file_slug("§ V-B, Fig. 11")
+    'sec_V-B_Fig_11'
+    """
+    spelled = "".join(_ascii(ch) for ch in text)
+    return re.sub(r"[^A-Za-z0-9-]+", "_", spelled).strip("_") or "unnamed"
+
+
+def _unique(stem: str, taken: set[str]) -> str:
+    name, k = stem, 2
+    while name.lower() in taken:           # case-insensitive file systems too
+        name, k = f"{stem}-{k}", k + 1
+    taken.add(name.lower())
+    return name
+
+
 def find_examples_dir(explicit: str | Path | None = None) -> Path | None:
     """``explicit``, else ``./papers_examples``, else the one beside the installed package."""
     candidates = [Path(explicit)] if explicit else [Path.cwd() / "papers_examples",
@@ -132,7 +178,7 @@ def run_all(examples_dir: Path, out: Path | None = None) -> list[Checklist]:
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
-        summary = []
+        summary, taken = [], {"summary"}
         md = ["# symkin reproduce: the paper's examples", ""]
         for res in results:
             summary.append({"example": res.example, "ok": res.ok,
@@ -141,9 +187,10 @@ def run_all(examples_dir: Path, out: Path | None = None) -> list[Checklist]:
             md += [f"- {'✔' if c.holds else '✘'} {c.statement} — measured {c.measured}" for c in res.claims]
             md.append("")
             for label, analysis in res.analyses.items():
-                stem = f"{res.example}__{label}".replace(" ", "_").replace("/", "_")
-                (out / f"{stem}.json").write_text(json.dumps(analysis.to_dict(), indent=2) + "\n")
-                md += [f"### {label}", "", render_markdown(analysis), ""]
-        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-        (out / "summary.md").write_text("\n".join(md) + "\n")
+                stem = _unique(f"{file_slug(res.example)}__{file_slug(label)}", taken)
+                text = json.dumps(analysis.to_dict(), indent=2) + "\n"
+                (out / f"{stem}.json").write_text(text, encoding="utf-8")
+                md += [f"### {label}", "", f"(`{stem}.json`)", "", render_markdown(analysis), ""]
+        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+        (out / "summary.md").write_text("\n".join(md) + "\n", encoding="utf-8")
     return results

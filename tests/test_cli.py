@@ -70,6 +70,7 @@ def test_console_script_runs_as_module():
     assert proc.returncode == 0 and json.loads(proc.stdout)["dof"] == 1
 
 
+@pytest.mark.slow
 def test_reproduce_writes_a_report_folder(capsys, tmp_path):
     code, out, err = run(capsys, "reproduce", "--out", str(tmp_path / "rep"))
     assert code == 0, out + err

@@ -11,6 +11,7 @@ nbclient = pytest.importorskip("nbclient")
 NOTEBOOK = Path(__file__).resolve().parent.parent / "notebooks" / "codegen.ipynb"
 
 
+@pytest.mark.slow
 def test_codegen_notebook_executes(tmp_path, monkeypatch):
     monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path / "cache"))  # the kernel inherits it
     nb = nbformat.read(NOTEBOOK, as_version=4)

@@ -582,6 +582,7 @@ def test_rigid_motion_and_scaling_change_no_indicator(name, angle, shift, scale)
 EXAMPLES = sorted((Path(__file__).resolve().parent.parent / "papers_examples").glob("*.toml"))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
 def test_paper_examples_decisions_equal_analyze(path):
     """The paper's examples (planar and the spatial 3-RSR with redundant body rows).

@@ -135,7 +135,8 @@ def test_a_mechanism_too_large_for_the_symbolic_forms_is_refused_with_a_message(
         sm.im_condition()
 
 
-@pytest.mark.parametrize("name,mode", CASES)
+@pytest.mark.slow
+@pytest.mark.parametrize("name,mode", CASES, ids=[f"{n}-{m}" for n, m in CASES])
 def test_conditions_equal_numeric_core(name, mode):
     mech = catalogue.get(name)
     sm = symbolic_model(mech, coordinates=mode, design_symbols=(mode == "angles"))
@@ -240,6 +241,7 @@ def _rrr_pose(mech, phi: float) -> dict:
     return nodes
 
 
+@pytest.mark.slow
 def test_rrr_catalogue_manipulator_at_a_concurrent_pose():
     """Turn the catalogue platform until the distal lines meet at its centre (by symmetry one
     line through the centre makes all three concurrent): the numeric core reports DKP-input
@@ -344,6 +346,7 @@ def rows_used(mech, cond):
     return np.array(out)
 
 
+@pytest.mark.slow
 def test_redundant_rows_of_a_body():
     """A 4-node coupler has 6 pair rows of rank 5: the IM condition is still G's coefficient
     (sum over row subsets); the DKP conditions use an equivalent equation with 5 of them."""
@@ -388,6 +391,7 @@ def test_conditions_that_never_or_always_hold():
         sm.dkp_condition("sideways")
 
 
+@pytest.mark.slow
 def test_rrr_all_three_conditions_derive_in_both_coordinates():
     """The three 3-RRR conditions (issue 3, requirement 4); times are in benchmarks/bench_symbolic.py."""
     mech = catalogue.get("rrr_3")

@@ -248,6 +248,7 @@ def test_angle_coordinates_are_planar_only_and_options_are_checked():
 
 
 # ---------------------------------------------------------------------- characteristic polynomial
+@pytest.mark.slow
 @pytest.mark.parametrize("name,mode", [("fourbar_appendix", "angles"), ("fourbar_appendix", "nodes"),
                                        ("five_bar", "angles"), ("slider_crank", "nodes"), ("rrr_3", "angles")])
 def test_characteristic_polynomial_matches_eigenvalues_and_im_condition(name, mode):

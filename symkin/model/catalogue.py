@@ -273,3 +273,29 @@ def bennett() -> dict:
         "links": {"link1": ["A", "A2", "B", "B2"], "link2": ["B", "B2", "C", "C2"],
                   "link3": ["C", "C2", "D", "D2"]},
     }
+
+
+# ---------------------------------------------------------------------- Watt six-bar (issue 7 §8)
+@_entry
+def watt_sixbar() -> dict:
+    """Watt II six-bar in a generic configuration: two four-bars in series.
+
+    Ground A-D-F and the rocker D-C-E are the two ternary links (they share joint D): the
+    crank A-B drives the rocker through the coupler B-C, and the rocker drives the output
+    F-G through the link E-G.  Coordinates are non-round on purpose (measured values), so
+    that lengths and body angles have no short exact form; the transmission angles are far
+    from 0 and 180° (every |sin| > 0.88).
+
+    >>> from symkin import analyze
+    >>> r = analyze(get("watt_sixbar"))
+    >>> r.dof, r.types
+    (1, ())
+    """
+    return {
+        "name": "Watt II six-bar", "dim": 2, "fixed": ["A", "D", "F"], "mobility": 1,
+        "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "output"}],
+        "nodes": {"A": [0.0, 0.0], "B": [0.0245, 1.4049], "C": [2.7011, 2.1044], "D": [2.9, 0.0],
+                  "E": [3.9079, 2.4269], "F": [5.6042, 0.3117], "G": [5.4376, 2.5769]},
+        "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C", "E"],
+                  "link": ["E", "G"], "output": ["F", "G"]},
+    }

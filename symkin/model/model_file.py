@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 import tomllib
 from pathlib import Path
 
@@ -22,6 +23,15 @@ def _reject_duplicates(pairs):
     return seen
 
 
+def _unreadable(exc: Exception) -> str:
+    """What a parser's ValueError or RecursionError means for the user."""
+    if isinstance(exc, RecursionError):
+        return "lists or tables nested too deeply"
+    if "integer string conversion" in str(exc):
+        return f"an integer with more than {sys.get_int_max_str_digits()} digits"
+    return str(exc)
+
+
 def load_model_data(path: str | Path) -> dict:
     """The raw dictionary of a model file; malformed files raise :class:`ModelFileError`."""
     path = Path(path)
@@ -38,8 +48,8 @@ def load_model_data(path: str | Path) -> dict:
         except json.JSONDecodeError as exc:
             raise ModelFileError(path, [Problem(f"line {exc.lineno}", f"malformed JSON: {exc.msg}")],
                                  line=exc.lineno) from None
-        except ValueError as exc:
-            raise ModelFileError(path, [Problem("", f"malformed JSON: {exc}")]) from None
+        except (ValueError, RecursionError) as exc:
+            raise ModelFileError(path, [Problem("", f"malformed JSON: {_unreadable(exc)}")]) from None
     if suffix == ".toml":
         try:
             return tomllib.loads(text)
@@ -48,6 +58,8 @@ def load_model_data(path: str | Path) -> dict:
             line = int(match.group(1)) if match else None
             raise ModelFileError(path, [Problem(f"line {line}" if line else "", f"malformed TOML: {exc}")],
                                  line=line) from None
+        except (ValueError, RecursionError) as exc:  # tomllib lets these through (a huge integer, deep nesting)
+            raise ModelFileError(path, [Problem("", f"malformed TOML: {_unreadable(exc)}")]) from None
     raise ModelFileError(path, [Problem("", f"unknown model file type {path.suffix!r}: use .toml or .json")])
 
 

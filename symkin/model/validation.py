@@ -13,13 +13,24 @@ from symkin.errors import ModelError, Problem
 from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider
 from symkin.tolerances import DEFAULT
 
-__all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS"]
+__all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS", "COORDINATE_LIMIT",
+           "MIN_LENGTH"]
 
 TOP_LEVEL_KEYS = ("name", "description", "dim", "fixed", "mobility", "inputs", "outputs",
                   "platform", "platform_dof", "nodes", "links", "sliders")
 PARAMETER_KINDS = ("rotation", "slide", "velocity", "twist", "joint")
 PARAMETER_KEYS = PARAMETER_KINDS + ("axis", "component", "label")
 SLIDER_KEYS = ("id", "node", "point", "direction", "normal", "line", "link")
+
+#: Largest magnitude accepted for a coordinate, a slider point or a component of a direction,
+#: normal or axis (in the file's unit).  Squares and products of such numbers stay far from
+#: floating-point overflow, so every length the analysis forms is finite.
+COORDINATE_LIMIT = 1e100
+#: Smallest length scale (mean distance between the nodes of a link) and smallest norm of a
+#: direction, normal or axis vector accepted: below it squared lengths underflow to zero.
+#: A model outside these bounds is rejected with a message suggesting another unit; inside
+#: them the analysis is scale invariant (a model and the same model scaled give one answer).
+MIN_LENGTH = 1e-100
 
 
 class _Collector:
@@ -36,23 +47,57 @@ def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
+def _finite(v: int | float) -> bool:
+    """Finite as a float (an integer too large for a float is not)."""
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:
+        return False
+
+
+def _short(value: Any, limit: int = 80) -> str:
+    """``repr`` cut to ``limit`` characters, so that a huge value does not flood a message."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit] + f"... ({len(text)} characters)"
+
+
 def _vector(value: Any, dim: int | None, key: str, out: _Collector, what: str = "coordinates"):
-    """A finite numeric vector of length ``dim`` or None (problem recorded)."""
+    """A finite numeric vector of length ``dim`` within ``±COORDINATE_LIMIT``, or None (problem recorded)."""
     if not isinstance(value, (list, tuple)) or not all(_is_number(v) for v in value):
-        out.add(key, f"{what} must be a list of numbers, got {value!r}")
+        out.add(key, f"{what} must be a list of numbers, got {_short(value)}")
         return None
     if dim is not None and len(value) != dim:
         out.add(key, f"{what} must have {dim} components (dim = {dim}), got {len(value)}")
         return None
-    if not all(math.isfinite(v) for v in value):
-        out.add(key, f"{what} must be finite, got {list(value)!r}")
+    if not all(_finite(v) for v in value):
+        out.add(key, f"{what} must be finite, got {_short(list(value))}")
         return None
-    return tuple(float(v) for v in value)
+    vec = tuple(float(v) for v in value)
+    if any(abs(v) > COORDINATE_LIMIT for v in vec):
+        out.add(key, f"{what} {_short(list(value))} out of range: each component must lie within "
+                     f"±{COORDINATE_LIMIT:g} (use another unit)")
+        return None
+    return vec
+
+
+def _direction(value: Any, dim: int | None, key: str, out: _Collector, what: str):
+    """A direction, normal or axis vector: as :func:`_vector`, and not (numerically) zero."""
+    vec = _vector(value, dim, key, out, what)
+    if vec is None:
+        return None
+    norm = math.hypot(*vec)
+    if norm == 0.0:
+        out.add(key, f"zero {what}")
+        return None
+    if norm < MIN_LENGTH:
+        out.add(key, f"{what} {list(vec)!r} too short: its norm {norm:.3g} is below {MIN_LENGTH:g}")
+        return None
+    return vec
 
 
 def _names(value: Any, key: str, out: _Collector, known: set[str] | None, what: str) -> tuple[str, ...]:
     if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) for v in value):
-        out.add(key, f"must be a list of {what} names, got {value!r}")
+        out.add(key, f"must be a list of {what} names, got {_short(value)}")
         return ()
     if known is not None:
         for v in value:
@@ -84,7 +129,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
 
     name = data.get("name", "unnamed mechanism")
     if not isinstance(name, str):
-        out.add("name", f"must be a string, got {name!r}")
+        out.add("name", f"must be a string, got {_short(name)}")
         name = str(name)
     description = data.get("description", "")
     if not isinstance(description, str):
@@ -94,8 +139,8 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     dim = data.get("dim")
     if dim is None:
         out.add("dim", "missing: 2 (planar) or 3 (spatial)")
-    elif isinstance(dim, bool) or dim not in (2, 3):
-        out.add("dim", f"must be 2 (planar) or 3 (spatial), got {dim!r}")
+    elif isinstance(dim, bool) or not isinstance(dim, int) or dim not in (2, 3):
+        out.add("dim", f"must be 2 (planar) or 3 (spatial), got {_short(dim)}")
         dim = None
 
     nodes = _parse_nodes(data.get("nodes"), dim, out)
@@ -106,6 +151,9 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
         out.add("fixed", f"node {n!r} listed twice")
 
     scale = _length_scale(nodes, links)
+    if scale < MIN_LENGTH:
+        out.add("nodes", f"the model's length scale (mean distance between the nodes of a link) is "
+                         f"{scale:.3g}, below {MIN_LENGTH:g}: lengths this small underflow; use another unit")
     _check_link_geometry(nodes, links, scale, tolerances.geometry, out)
     used = {n for ns in links.values() for n in ns}
     for n in nodes:
@@ -123,7 +171,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
 
     mobility = data.get("mobility")
     if mobility is not None and (isinstance(mobility, bool) or not isinstance(mobility, int) or mobility < 0):
-        out.add("mobility", f"must be a non-negative integer, got {mobility!r}")
+        out.add("mobility", f"must be a non-negative integer, got {_short(mobility)}")
         mobility = None
 
     platform = data.get("platform")
@@ -137,7 +185,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     if platform_dof is not None:
         top = 3 if dim == 2 else 6
         if isinstance(platform_dof, bool) or not isinstance(platform_dof, int) or not 0 <= platform_dof <= top:
-            out.add("platform_dof", f"must be an integer from 0 to {top}, got {platform_dof!r}")
+            out.add("platform_dof", f"must be an integer from 0 to {top}, got {_short(platform_dof)}")
             platform_dof = None
         elif platform is None and "platform" not in data:
             out.add("platform_dof", "given without 'platform'")
@@ -237,7 +285,7 @@ def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, o
         if sid is None:
             sid = node if per_node.get(node, 0) == 1 else f"{node}#{k}"
         if not isinstance(sid, str):
-            out.add(key, f"id must be a string, got {sid!r}")
+            out.add(key, f"id must be a string, got {_short(sid)}")
             continue
         key = f"sliders[{k}] ({sid})"
         if sid in ids:
@@ -271,13 +319,10 @@ def _fixed_slider(item, sid, node, p, dim, scale, tol, key, out) -> Slider | Non
         out.add(key, "'normal' (a fixed plane) is for spatial models; use 'direction' in a planar one")
         return None
     which = "direction" if "direction" in item else "normal"
-    vec = _vector(item.get(which), dim, key, out, which)
+    vec = _direction(item.get(which), dim, key, out, which)
     if point is None or vec is None:
         return None
-    norm = math.sqrt(sum(v * v for v in vec))
-    if norm == 0.0:
-        out.add(key, f"zero {which}")
-        return None
+    norm = math.hypot(*vec)
     if p is not None:
         u = [v / norm for v in vec]
         d = [a - b for a, b in zip(p, point)]
@@ -295,7 +340,7 @@ def _moving_line_slider(item, sid, node, p, nodes, links, scale, tol, key, out) 
         out.add(key, "a moving-line slider takes 'line' and 'link' only")
         return None
     if not (isinstance(line, (list, tuple)) and len(line) == 2 and all(isinstance(n, str) for n in line)):
-        out.add(key, f"line must be two node names, got {line!r}")
+        out.add(key, f"line must be two node names, got {_short(line)}")
         return None
     if not isinstance(link, str) or link not in links:
         out.add(key, f"unknown link {link!r}")
@@ -310,7 +355,7 @@ def _moving_line_slider(item, sid, node, p, nodes, links, scale, tol, key, out) 
     a, c = nodes.get(line[0]), nodes.get(line[1])
     if p is not None and a is not None and c is not None:
         e = [ci - ai for ai, ci in zip(a, c)]
-        le = math.sqrt(sum(v * v for v in e))
+        le = math.hypot(*e)
         if le == 0.0:
             out.add(key, "the line's two nodes coincide")
             return None
@@ -331,7 +376,7 @@ def _parse_parameters(items: Any, where: str, ctx: dict, out: _Collector) -> lis
     for k, item in enumerate(items):
         key = f"{where}[{k}]"
         if not isinstance(item, Mapping):
-            out.add(key, f"must be a table such as {{rotation = \"crank\"}}, got {item!r}")
+            out.add(key, f"must be a table such as {{rotation = \"crank\"}}, got {_short(item)}")
             continue
         _unknown_keys(item, PARAMETER_KEYS, key, out)
         kinds = [kd for kd in PARAMETER_KINDS if kd in item]
@@ -360,7 +405,7 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
             out.add(key, "joint rates are planar; in a spatial model use rotation with an axis")
             return None
         if not (isinstance(value, (list, tuple)) and len(value) == 2 and all(isinstance(v, str) for v in value)):
-            out.add(key, f"joint needs two link names, got {value!r}")
+            out.add(key, f"joint needs two link names, got {_short(value)}")
             return None
         missing = [v for v in value if v not in links]
         if missing:
@@ -371,7 +416,7 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
             return None
         return Parameter("joint", (value[0], value[1]), label=label)
     if not isinstance(value, str):
-        out.add(key, f"{kind} needs a name, got {value!r}")
+        out.add(key, f"{kind} needs a name, got {_short(value)}")
         return None
     if kind in ("rotation", "twist"):
         if value not in links:
@@ -417,6 +462,8 @@ def _rotation_axis(item, link, key, ctx, out):
     """The axis of a spatial rotation (tuple), None for planar, False after a problem."""
     dim, nodes = ctx["dim"], ctx["nodes"]
     axis = item.get("axis")
+    if dim is None:  # the problem with 'dim' is recorded; an axis cannot be checked without it
+        return False
     if dim == 2:
         if axis is not None:
             out.add(key, "a planar rotation has no axis")
@@ -434,16 +481,13 @@ def _rotation_axis(item, link, key, ctx, out):
         if pa is None or pb is None:
             return False
         vec = tuple(b - a for a, b in zip(pa, pb))
-        if math.sqrt(sum(v * v for v in vec)) == 0.0:
+        if math.hypot(*vec) == 0.0:
             out.add(key, "the axis nodes coincide")
             return False
         result = (axis[0], axis[1])
     else:
-        vec = _vector(axis, 3, key, out, "axis")
+        vec = _direction(axis, 3, key, out, "axis")
         if vec is None:
-            return False
-        if math.sqrt(sum(v * v for v in vec)) == 0.0:
-            out.add(key, "zero axis")
             return False
         result = vec
     if _is_rod(link, ctx) and _parallel(vec, _rod_direction(link, ctx)):
