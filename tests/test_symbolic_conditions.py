@@ -136,7 +136,7 @@ def test_a_mechanism_too_large_for_the_symbolic_forms_is_refused_with_a_message(
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name,mode", CASES, ids=[f"{n}-{m}" for n, m in CASES])
+@pytest.mark.parametrize("name,mode", CASES)
 def test_conditions_equal_numeric_core(name, mode):
     mech = catalogue.get(name)
     sm = symbolic_model(mech, coordinates=mode, design_symbols=(mode == "angles"))
