@@ -41,9 +41,8 @@ def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
 
 
 def free_mask(mech: Mechanism) -> np.ndarray:
-    """Boolean mask of the free (not fixed) coordinates."""
-    fixed = set(mech.fixed)
-    return np.array([n not in fixed for n in mech.node_names for _ in range(mech.dim)])
+    """Boolean mask of the free (not fixed) coordinates (read-only, shared per topology)."""
+    return plan(mech.topology).free
 
 
 @dataclass(frozen=True)
@@ -58,18 +57,103 @@ def _xyz(mech: Mechanism) -> np.ndarray:
     return np.array([xyz for _, xyz in mech.nodes], dtype=float)
 
 
-def _bar_row(x: np.ndarray, i: int, j: int, dim: int, ncoord: int) -> np.ndarray:
-    u = x[j] - x[i]
-    u = u / np.linalg.norm(u)
-    row = np.zeros(ncoord)
-    row[dim * i: dim * i + dim] = u
-    row[dim * j: dim * j + dim] = -u
-    return row
+@dataclass(frozen=True, eq=False)
+class _Plan:
+    """What the rows of a topology need besides coordinates: indices, owners, free columns.
+
+    Built once per :class:`~symkin.model.mechanism.Topology` (:func:`plan`), so that the
+    bar rows of a configuration are a few vectorised NumPy operations: every bar ``k``
+    between nodes ``i`` and ``j`` puts ``+u`` in columns ``dim·i + c`` and ``−u`` in
+    ``dim·j + c`` of its row.
+    """
+
+    dim: int
+    ncoord: int
+    index: dict            # node name → position
+    links: dict            # link name → node positions
+    free: np.ndarray       # boolean mask of the free coordinates
+    bar_i: np.ndarray      # (n_bars,) first node of each bar
+    bar_j: np.ndarray      # (n_bars,) second node
+    bar_plus: np.ndarray   # (n_bars, dim) flat indices of +u in a (n_bars, ncoord) block
+    bar_minus: np.ndarray  # (n_bars, dim) flat indices of -u
+    bar_owners: tuple      # owner of each bar row
+    bodies: tuple          # (link name, node positions, bar rows before its extra rows), 3+ nodes
+
+
+@lru_cache(maxsize=64)
+def plan(topology) -> _Plan:
+    """The :class:`_Plan` of a topology (cached; ``mech.topology`` is the key)."""
+    dim, node_names, links = topology.key[:3]
+    fixed = set(topology.key[3])
+    index = {n: i for i, n in enumerate(node_names)}
+    ncoord = dim * len(node_names)
+    bar_i, bar_j, owners, bodies = [], [], [], []
+    for name, ns in links:
+        idx = [index[n] for n in ns]
+        for a in range(len(idx)):
+            for b in range(a + 1, len(idx)):
+                bar_i.append(idx[a])
+                bar_j.append(idx[b])
+                owners.append(f"link {name} ({ns[a]}-{ns[b]})")
+        if len(idx) >= 3:
+            bodies.append((name, tuple(idx), len(bar_i)))
+    bi, bj = np.array(bar_i, dtype=int), np.array(bar_j, dtype=int)
+    free = np.array([n not in fixed for n in node_names for _ in range(dim)], dtype=bool)
+    free.setflags(write=False)
+    rows = np.arange(bi.size)[:, None] * ncoord
+    comps = np.arange(dim)[None, :]
+    return _Plan(dim=dim, ncoord=ncoord, index=index,
+                 links={name: tuple(index[n] for n in ns) for name, ns in links},
+                 free=free,
+                 bar_i=bi, bar_j=bj, bar_plus=rows + dim * bi[:, None] + comps,
+                 bar_minus=rows + dim * bj[:, None] + comps, bar_owners=tuple(owners),
+                 bodies=tuple(bodies))
+
+
+def _bar_block(pl: _Plan, x: np.ndarray) -> np.ndarray:
+    """Rows of every bar (eq. A3 / A4, divided by the bar's length): ``+u`` at i, ``−u`` at j."""
+    d = x[pl.bar_j] - x[pl.bar_i]
+    u = d / np.sqrt(np.einsum("ij,ij->i", d, d))[:, None]
+    block = np.zeros((pl.bar_i.size, pl.ncoord))
+    flat = block.reshape(-1)
+    flat[pl.bar_plus] = u
+    flat[pl.bar_minus] = -u
+    return block
+
+
+def _certainly_full_hull(pts: np.ndarray, tol: float) -> bool:
+    """Whether the body's nodes surely span ``min(dim, k − 1)`` dimensions (no extra rows).
+
+    A cheap sufficient test that never contradicts :func:`affine_hull`: with ``C = AᵀA``
+    of the centred points and ``m = min(dim, k − 1)``, ``σ_m/σ_1 ≥ sqrt(e_m(C)/tr(C)^m)``
+    (``e_m`` the sum of principal m×m minors, the product of the m nonzero eigenvalues).
+    When that bound exceeds ``100·tol`` the hull is full; otherwise ``affine_hull`` decides.
+    """
+    a = pts - pts.mean(axis=0)
+    c = a.T @ a
+    tr = float(np.trace(c))
+    if tr <= 0.0:
+        return False
+    if c.shape[0] == 2:
+        e = c[0, 0] * c[1, 1] - c[0, 1] * c[1, 0]
+        m = 2
+    elif len(pts) == 3:
+        e = (c[0, 0] * c[1, 1] - c[0, 1] ** 2 + c[0, 0] * c[2, 2] - c[0, 2] ** 2
+             + c[1, 1] * c[2, 2] - c[1, 2] ** 2)
+        m = 2
+    else:
+        e = float(np.dot(c[0], np.array([c[1, 1] * c[2, 2] - c[1, 2] * c[2, 1],
+                                           c[1, 2] * c[2, 0] - c[1, 0] * c[2, 2],
+                                           c[1, 0] * c[2, 1] - c[1, 1] * c[2, 0]])))
+        m = 3
+    return float(e) > (100.0 * tol) ** 2 * tr ** m
 
 
 def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
     """Rows that make a degenerate (collinear / coplanar) body rigid out of its hull."""
     pts = x[idx]
+    if _certainly_full_hull(pts, tol):
+        return []
     h, _, normals = affine_hull(pts, tol)
     if h == dim or len(idx) <= h + 1:
         return []
@@ -117,27 +201,10 @@ def _frame(pts: np.ndarray, h: int) -> list[int]:
     return frame
 
 
-def constraint_rows(mech: Mechanism, tolerances=DEFAULT) -> ConstraintRows:
-    """All constraint rows of ``mech`` (see module docstring), over all coordinates."""
-    return _constraint_rows_cached(mech, tolerances.geometry)
-
-
-@lru_cache(maxsize=256)
-def _constraint_rows_cached(mech: Mechanism, geometry_tol: float) -> ConstraintRows:
-    x = _xyz(mech)
-    dim, ncoord = mech.dim, x.size
-    index = mech.node_index()
-    rows, owners = [], []
-    for name, ns in mech.links:
-        idx = [index[n] for n in ns]
-        for a in range(len(idx)):
-            for b in range(a + 1, len(idx)):
-                rows.append(_bar_row(x, idx[a], idx[b], dim, ncoord))
-                owners.append(f"link {name} ({ns[a]}-{ns[b]})")
-        if len(idx) >= 3:
-            extra = _body_extra_rows(x, idx, dim, ncoord, geometry_tol)
-            rows += extra
-            owners += [f"link {name} (rigidity out of its hull)"] * len(extra)
+def _slider_rows(mech: Mechanism, pl: _Plan, x: np.ndarray) -> list[np.ndarray]:
+    """Rows of every slider: ``n·(ẋ_P − …) = 0`` for each normal ``n`` of its line / plane."""
+    dim, ncoord, index = pl.dim, pl.ncoord, pl.index
+    rows = []
     for s in mech.sliders:
         p = index[s.node]
         if s.kind == "moving_line":
@@ -157,9 +224,43 @@ def _constraint_rows_cached(mech: Mechanism, geometry_tol: float) -> ConstraintR
             for k, w in weights.items():
                 row[dim * k: dim * k + dim] += w * n
             rows.append(row)
-            owners.append(f"slider {s.id}")
-    matrix = np.array(rows).reshape(len(rows), ncoord)
-    return ConstraintRows(matrix=matrix, owners=tuple(owners))
+    return rows
+
+
+def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None = None) -> ConstraintRows:
+    """All constraint rows of ``mech`` (see module docstring), over all coordinates.
+
+    Rows come link by link (a link's bars, then its rows out of a degenerate hull), then
+    slider by slider.  ``xyz`` (n_nodes, dim), when given, are ``mech``'s coordinates as
+    an array (saves converting them again).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> rows = constraint_rows(get("fourbar_appendix"))
+    >>> rows.matrix.shape, rows.owners[0]
+    ((3, 8), 'link crank (A-B)')
+    """
+    pl = plan(mech.topology)
+    x = _xyz(mech) if xyz is None else xyz
+    bars = _bar_block(pl, x)
+    pieces, owners, start = [], [], 0
+    for name, idx, end in pl.bodies:
+        extra = _body_extra_rows(x, list(idx), pl.dim, pl.ncoord, tolerances.geometry)
+        if extra:
+            pieces += [bars[start:end], np.array(extra)]
+            owners += list(pl.bar_owners[start:end]) + [f"link {name} (rigidity out of its hull)"] * len(extra)
+            start = end
+    sliders = _slider_rows(mech, pl, x)
+    if not pieces and not sliders:
+        return ConstraintRows(matrix=bars, owners=pl.bar_owners)
+    pieces.append(bars[start:])
+    owners += list(pl.bar_owners[start:])
+    if sliders:
+        pieces.append(np.array(sliders))
+        owners += [f"slider {s.id}" for s in mech.sliders
+                   for _ in range(1 if s.kind == "plane" else mech.dim - 1)]
+    return ConstraintRows(matrix=np.vstack(pieces), owners=tuple(owners))
 
 
 def geometric_matrix(mech: Mechanism, boundary: bool = False, reduced: bool = False) -> np.ndarray:
@@ -195,33 +296,34 @@ def geometric_matrix(mech: Mechanism, boundary: bool = False, reduced: bool = Fa
 
 
 # ---------------------------------------------------------------------- parameter rows
-def _pair_for_rotation(x: np.ndarray, idx: list[int]) -> tuple[int, int]:
+def _pair_for_rotation(x: np.ndarray, idx) -> tuple[int, int]:
     """First node of the link and the node farthest from it (best conditioned pair)."""
-    dists = [np.linalg.norm(x[k] - x[idx[0]]) for k in idx]
-    return idx[0], idx[int(np.argmax(dists))]
+    d = x[list(idx)] - x[idx[0]]
+    return idx[0], idx[int(np.argmax(np.einsum("ij,ij->i", d, d)))]
 
 
-def rotation_rows(mech: Mechanism, link: str) -> np.ndarray:
+def rotation_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.ndarray:
     """Rows giving the angular velocity of ``link`` from nodal velocities.
 
     Planar: one row, ``ω = n·(ẋ_j − ẋ_i)/|x_j − x_i|``.  Spatial: three rows (ωx, ωy,
     ωz), the least-squares solution of ``ẋ_k − ẋ_i = ω × (x_k − x_i)`` over the link's
     nodes; for a rod (collinear nodes) this is the angular velocity normal to its axis
-    (the spin about the axis does not move any node and is not defined).
+    (the spin about the axis does not move any node and is not defined).  ``xyz``: the
+    coordinates as an (n_nodes, dim) array, when the caller has them.
     """
-    x = _xyz(mech)
-    dim, ncoord = mech.dim, x.size
-    index = mech.node_index()
-    idx = [index[n] for n in mech.link_nodes(link)]
+    pl = plan(mech.topology)
+    x = _xyz(mech) if xyz is None else xyz
+    dim, ncoord = pl.dim, pl.ncoord
+    idx = pl.links[link]
     if dim == 2:
         i, j = _pair_for_rotation(x, idx)
         d = x[j] - x[i]
         length2 = float(d @ d)
-        row = np.zeros(ncoord)
+        row = np.zeros((1, ncoord))
         perp = np.array([-d[1], d[0]]) / length2
-        row[2 * j: 2 * j + 2] += perp
-        row[2 * i: 2 * i + 2] -= perp
-        return row[None, :]
+        row[0, 2 * j: 2 * j + 2] += perp
+        row[0, 2 * i: 2 * i + 2] -= perp
+        return row
     # spatial: v_k - v_i = -[r_k]x ω  for every other node k  →  ω = B⁺ (v_k - v_i)
     i = idx[0]
     others = idx[1:]
@@ -230,7 +332,7 @@ def rotation_rows(mech: Mechanism, link: str) -> np.ndarray:
         r = x[k] - x[i]
         blocks.append(-np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]]))
     b = np.vstack(blocks)  # (3·len(others), 3)
-    h, _, _ = affine_hull(x[idx], DEFAULT.geometry)
+    h, _, _ = affine_hull(x[list(idx)], DEFAULT.geometry)
     bpinv = np.linalg.pinv(b, rcond=1e-10) if h >= 2 else _rod_pinv(x[idx[-1]] - x[i], len(others))
     rows = np.zeros((3, ncoord))
     for col, k in enumerate(others):
@@ -248,14 +350,14 @@ def _rod_pinv(r: np.ndarray, n_others: int) -> np.ndarray:
     return out
 
 
-def twist_rows(mech: Mechanism, link: str) -> np.ndarray:
+def twist_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.ndarray:
     """Velocity of the link's first node followed by its angular velocity (3 or 6 rows)."""
-    dim = mech.dim
-    ncoord = dim * len(mech.nodes)
-    i = mech.node_index()[mech.link_nodes(link)[0]]
-    vel = np.zeros((dim, ncoord))
+    pl = plan(mech.topology)
+    dim = pl.dim
+    i = pl.links[link][0]
+    vel = np.zeros((dim, pl.ncoord))
     vel[:, dim * i: dim * i + dim] = np.eye(dim)
-    return np.vstack([vel, rotation_rows(mech, link)])
+    return np.vstack([vel, rotation_rows(mech, link, xyz)])
 
 
 def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
@@ -267,19 +369,21 @@ def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
     return vec / np.linalg.norm(vec)
 
 
-def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
-    """Rows (physical units) of one kinematic parameter over all nodal velocity components."""
-    dim = mech.dim
-    ncoord = dim * len(mech.nodes)
-    index = mech.node_index()
+def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = None) -> np.ndarray:
+    """Rows (physical units) of one kinematic parameter over all nodal velocity components.
+
+    ``xyz``: the coordinates as an (n_nodes, dim) array, when the caller has them.
+    """
+    pl = plan(mech.topology)
+    dim, ncoord, index = pl.dim, pl.ncoord, pl.index
     kind = param.kind
     if kind == "rotation":
-        rows = rotation_rows(mech, param.target[0])
+        rows = rotation_rows(mech, param.target[0], xyz)
         return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
     if kind == "joint":
-        return rotation_rows(mech, param.target[1]) - rotation_rows(mech, param.target[0])
+        return rotation_rows(mech, param.target[1], xyz) - rotation_rows(mech, param.target[0], xyz)
     if kind == "twist":
-        return twist_rows(mech, param.target[0])
+        return twist_rows(mech, param.target[0], xyz)
     if kind == "velocity":
         i = index[param.target[0]]
         comps = [AXES.index(param.component)] if param.component else range(dim)
@@ -289,7 +393,7 @@ def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
         return rows
     if kind == "slide":
         s = mech.slider(param.target[0])
-        x = _xyz(mech)
+        x = _xyz(mech) if xyz is None else xyz
         p = index[s.node]
         row = np.zeros(ncoord)
         if s.kind == "moving_line":
@@ -307,11 +411,11 @@ def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
     raise ValueError(f"unknown parameter kind {kind!r}")
 
 
-def parameters_matrix(mech: Mechanism, params) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Stacked rows and labels of a list of parameters."""
-    ncoord = mech.dim * len(mech.nodes)
-    blocks, labels = [np.zeros((0, ncoord))], []
-    for p in params:
-        blocks.append(parameter_rows(mech, p))
-        labels += list(p.labels(mech.dim))
-    return np.vstack(blocks), tuple(labels)
+def parameters_matrix(mech: Mechanism, params, xyz: np.ndarray | None = None) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Stacked rows and labels of a list of parameters (``xyz`` as in :func:`parameter_rows`)."""
+    x = _xyz(mech) if xyz is None else xyz
+    blocks = [parameter_rows(mech, p, x) for p in params]
+    labels = tuple(lab for p in params for lab in p.labels(mech.dim))
+    if not blocks:
+        return np.zeros((0, mech.dim * len(mech.nodes))), labels
+    return (np.vstack(blocks) if len(blocks) > 1 else blocks[0]), labels
