@@ -4,6 +4,13 @@ The null space of the reduced geometric matrix is computed from the singular val
 decomposition of the dimensionless constraint matrix ``J`` (``G = Jᵀ J``), which is as
 accurate as the eigenproblem of eq. (8) but resolves singular values down to machine
 precision instead of its square root.  Eigenvalues of ``G`` are ``λ = σ²``.
+
+One SVD ``J_r = U Σ Vᵀ`` of the reduced (free-coordinate) constraint matrix gives
+everything: the singular values, the threshold ``tol · σ_max``, the motion space (the
+right singular vectors beyond the rank) and, kept on the result as :attr:`MotionSpace.U`,
+the left singular vectors, whose columns beyond the rank span the left null space of
+``J_r`` (self-stresses).  Parameter rows restricted to the motion space are computed once
+per parameter list (:meth:`MotionSpace.restrict`).
 """
 from __future__ import annotations
 
@@ -14,7 +21,7 @@ import numpy as np
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_mask,
                                              parameters_matrix, rotation_rows)
-from symkin.numeric.linalg import svd_null_space
+from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["MotionSpace", "motion_space"]
@@ -36,6 +43,16 @@ class MotionSpace:
         structural zeros (``sqrt`` of the eigenvalues of the reduced G).
     threshold : float
         ``tol · σ_max``: singular values at or below it count as zero.
+    rank : int
+        Rank of the reduced constraint matrix ``J_r`` (rows × free coordinates).
+    J : ndarray (m, n_free)
+        The reduced, dimensionless constraint matrix (rows as
+        :func:`~symkin.numeric.geometric_matrix.constraint_rows`).
+    U : ndarray (m, m)
+        Left singular vectors of ``J_r``, by descending singular value: ``U[:, rank:]`` is an
+        orthonormal basis of the left null space ``{y : yᵀ J_r = 0}`` (self-stresses).
+    xyz : ndarray (n_nodes, dim)
+        The configuration's coordinates.
     """
 
     mechanism: Mechanism
@@ -44,6 +61,11 @@ class MotionSpace:
     singular_values: np.ndarray
     threshold: float
     tolerances: Tolerances = field(default=DEFAULT)
+    rank: int = 0
+    J: np.ndarray | None = field(default=None, repr=False)
+    U: np.ndarray | None = field(default=None, repr=False)
+    xyz: np.ndarray | None = field(default=None, repr=False)
+    _restricted: dict = field(default_factory=dict, repr=False)
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -70,7 +92,7 @@ class MotionSpace:
         mech = self.mechanism
         rows, labels = [], []
         for link in mech.moving_links:
-            r = rotation_rows(mech, link)
+            r = rotation_rows(mech, link, self.xyz)
             rows.append(r @ self.V)
             labels += [f"omega:{link}"] if mech.dim == 2 else [f"omega:{link}.{c}" for c in "xyz"]
         if not rows:
@@ -82,20 +104,34 @@ class MotionSpace:
 
         Returns ``(M, norms, labels)`` with ``M = P̂ V`` (``P̂`` the rows divided by their
         norms over the free coordinates); relations found on ``M`` become physical
-        coefficients by dividing by ``norms``.
+        coefficients by dividing by ``norms``.  Computed once per parameter list; the
+        arrays returned are read-only.
         """
+        key = tuple(params)
+        if key not in self._restricted:
+            self._restricted[key] = self._restrict(key)
+        return self._restricted[key]
+
+    def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
-        p, labels = parameters_matrix(mech, params)
-        free = free_mask(mech)
-        norms = np.linalg.norm(p[:, free], axis=1) if p.size else np.zeros(0)
+        p, labels = parameters_matrix(mech, params, self.xyz)
+        pf = p[:, free_mask(mech)]
+        norms = np.sqrt(np.einsum("ij,ij->i", pf, pf))
         safe = np.where(norms > 0, norms, 1.0)
-        return (p / safe[:, None]) @ self.V, safe, labels
+        m = (p / safe[:, None]) @ self.V
+        m.setflags(write=False)
+        safe.setflags(write=False)
+        return m, safe, labels
+
+    def node_speed_array(self) -> np.ndarray:
+        """Norm of each node's rows of V, in node order (see :meth:`node_speeds`)."""
+        n, dim = len(self.mechanism.nodes), self.mechanism.dim
+        block = self.V.reshape(n, dim * self.V.shape[1])
+        return np.sqrt(np.einsum("ij,ij->i", block, block))
 
     def node_speeds(self) -> dict[str, float]:
         """Norm of each node's rows of V: zero for a node that cannot move at all."""
-        dim = self.mechanism.dim
-        return {n: float(np.linalg.norm(self.V[dim * i: dim * i + dim]))
-                for i, n in enumerate(self.mechanism.node_names)}
+        return dict(zip(self.mechanism.node_names, self.node_speed_array().tolist()))
 
 
 def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpace:
@@ -108,13 +144,16 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms.dof, ms.V.shape
     (1, (8, 1))
     """
-    j = constraint_rows(mech, tolerances).matrix
+    xyz = np.array([c for _, c in mech.nodes], dtype=float)
     free = free_mask(mech)
-    jf = j[:, free]
-    smax = float(np.linalg.norm(jf, 2)) if jf.size else 0.0
-    threshold = tolerances.rank * smax
-    s, null, _ = svd_null_space(jf, threshold)
-    v = np.zeros((free.size, null.shape[1]))
-    v[free] = null
-    return MotionSpace(mechanism=mech, V=v, dof=null.shape[1], singular_values=np.sort(s),
-                       threshold=threshold, tolerances=tolerances)
+    jf = constraint_rows(mech, tolerances, xyz).matrix[:, free]
+    u, s, vt = svd_factors(jf)
+    threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
+    rank = svd_rank(s, threshold)
+    n_free = jf.shape[1]
+    v = np.zeros((free.size, n_free - rank))
+    v[free] = vt[rank:].T
+    singular = np.zeros(n_free)  # with the structural zeros of a wide J_r
+    singular[: s.size] = s
+    return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular[::-1],
+                       threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u, xyz=xyz)
