@@ -25,7 +25,7 @@ import numpy as np
 
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.model.mechanism import Mechanism, Parameter
-from symkin.numeric.linalg import left_null_space, rank_and_null_space, rref
+from symkin.numeric.linalg import rref, svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
@@ -139,19 +139,37 @@ class Analysis:
 
 
 # ---------------------------------------------------------------------- helpers
-def _rank(m: np.ndarray, tol: float) -> tuple[int, np.ndarray]:
-    """Rank and (β-space) null space of a restricted parameter matrix, absolute ``tol``."""
-    if m.shape[0] == 0:
-        return 0, np.eye(m.shape[1])
-    rank, null, _ = rank_and_null_space(m, tol)
-    return rank, null
+@dataclass(frozen=True)
+class _Ranked:
+    """One SVD of a restricted parameter matrix ``M`` (k × L): rank, right and left null spaces."""
+
+    rank: int
+    null: np.ndarray  # (L, L - rank): β with M β = 0
+    left: np.ndarray  # (k, k - rank): γ with γᵀ M = 0
 
 
-def _relations(m: np.ndarray, norms: np.ndarray, labels, tol: float) -> tuple[Relation, ...]:
-    """Canonical (reduced row echelon) relations among the rows of ``m``, physical units."""
-    if m.shape[0] == 0:
-        return ()
-    gamma = left_null_space(m, tol)  # (k, k - rank), dimensionless
+def _ranked(m: np.ndarray, tol: float) -> _Ranked:
+    """Rank of ``m`` with the absolute threshold ``tol``, and both null spaces."""
+    k, n = m.shape
+    if k == 0:
+        return _Ranked(0, np.eye(n), np.zeros((0, 0)))
+    u, s, vt = svd_factors(m)
+    rank = svd_rank(s, tol)
+    return _Ranked(rank, vt[rank:].T, u[:, rank:])
+
+
+def _rank(m: np.ndarray, tol: float) -> int:
+    """Rank of a restricted parameter matrix, absolute ``tol``."""
+    return _ranked(m, tol).rank
+
+
+def _relations(ranked: _Ranked, norms: np.ndarray, labels, tol: float) -> tuple[Relation, ...]:
+    """Canonical (reduced row echelon) relations among the rows of ``M``, physical units.
+
+    ``ranked.left`` (k × (k − rank), dimensionless) spans the relations; the reduced row
+    echelon form over the parameters' order makes them canonical.
+    """
+    gamma = ranked.left
     if gamma.shape[1] == 0:
         return ()
     r, pivots = rref(gamma.T, max(tol, 1e-12))
@@ -220,18 +238,14 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     m_in, n_in, lab_in = ms.restrict(mech.inputs)
     m_out, n_out, lab_out = ms.restrict(mech.outputs)
     k_in, k_out = m_in.shape[0], m_out.shape[0]
-    r_in, null_in = _rank(m_in, t)
-    r_out, null_out = _rank(m_out, t)
+    rk_in, rk_out = _ranked(m_in, t), _ranked(m_out, t)
+    r_in, r_out, null_in, null_out = rk_in.rank, rk_out.rank, rk_in.null, rk_out.null
     if k_in and r_in < min(f, k_in):
         types.append("DKP-input")
     if k_out and r_out < min(f, k_out):
         types.append("DKP-output")
 
-    speeds = ms.node_speeds()
-    fixed = set(mech.fixed)
-    locked_nodes = tuple(n for n in mech.node_names if n not in fixed and speeds[n] <= t)
-    locked_links = tuple(name for name in mech.moving_links
-                         if all(speeds[n] <= t for n in mech.link_nodes(name) if n not in fixed))
+    locked_nodes, locked_links = _locked(mech, ms, t)
     if locked_links:
         types.append("LIM")
 
@@ -239,9 +253,11 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     pf_rel: tuple[Relation, ...] = ()
     m_pf = None
     if mech.platform is not None:
-        m_pf, n_pf, lab_pf = ms.restrict([Parameter("twist", (mech.platform,))])
-        platform_dof, _ = _rank(m_pf, t)
-        pf_rel = _relations(m_pf, n_pf, lab_pf, t)
+        twist = (Parameter("twist", (mech.platform,)),)
+        m_pf, n_pf, lab_pf = ms.restrict(twist)
+        rk_pf = rk_out if twist == tuple(mech.outputs) else _ranked(m_pf, t)
+        platform_dof = rk_pf.rank
+        pf_rel = _relations(rk_pf, n_pf, lab_pf, t)
         generic = mech.platform_dof if mech.platform_dof is not None else min(f, m_pf.shape[0])
         if platform_dof > generic:
             types.append("constraint")
@@ -266,17 +282,19 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         zl.append("IO")
     ro = ri = False
     if k_in and k_out:
-        ro = _rank(m_out @ null_in, t)[0] > max(0, f - k_in) if null_in.shape[1] else False
-        ri = _rank(m_in @ null_out, t)[0] > max(0, f - k_out) if null_out.shape[1] else False
-        both = np.vstack([m_in, m_out])
-        rpm = (L - _rank(both, t)[0]) > max(0, f - k_in - k_out)
+        ro = _rank(m_out @ null_in, t) > max(0, f - k_in) if null_in.shape[1] else False
+        ri = _rank(m_in @ null_out, t) > max(0, f - k_out) if null_out.shape[1] else False
+        # rank([M_in; M_out]) >= max(r_in, r_out) (interlacing): its SVD only when it can matter
+        rpm_bound = max(0, f - k_in - k_out)
+        rpm = L - max(r_in, r_out) > rpm_bound and \
+            L - _rank(np.vstack([m_in, m_out]), t) > rpm_bound
         zl += [name for name, on in (("RI", ri), ("RO", ro), ("RPM", rpm)) if on]
     type2 = "DKP-input" in types or ro
     type1 = "DKP-output" in types or ri
     ga = "type 3" if (type1 and type2) else "type 2" if type2 else "type 1" if type1 else None
 
     s = ms.singular_values
-    shown = tuple(float(v) for v in s[: min(s.size, L + 3)])
+    shown = tuple(s[: min(s.size, L + 3)].tolist())
     margin = None
     if ms.threshold > 0:
         above = s[L] / ms.threshold if L < s.size else math.inf
@@ -287,10 +305,22 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),
         input_labels=lab_in, output_labels=lab_out,
         input_rank=r_in if k_in else None, output_rank=r_out if k_out else None,
-        input_relations=_relations(m_in, n_in, lab_in, t),
-        output_relations=_relations(m_out, n_out, lab_out, t),
+        input_relations=_relations(rk_in, n_in, lab_in, t),
+        output_relations=_relations(rk_out, n_out, lab_out, t),
         locked_links=locked_links, locked_nodes=locked_nodes, uncontrolled_motions=motions,
         platform=mech.platform, platform_dof=platform_dof, platform_dof_generic=generic,
         platform_relations=pf_rel, im_indicator=ms.im_indicator(f), singular_values=shown,
         tolerance=t, threshold=float(ms.threshold), margin=margin,
         gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms)
+
+
+def _locked(mech: Mechanism, ms: MotionSpace, t: float) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Free nodes that cannot move for any motion, and the moving links all of whose free nodes are such."""
+    speeds = dict(zip(mech.node_names, (ms.node_speed_array() <= t).tolist()))
+    fixed = set(mech.fixed)
+    locked_nodes = tuple(n for n in mech.node_names if n not in fixed and speeds[n])
+    if not locked_nodes:
+        return (), ()
+    locked_links = tuple(name for name in mech.moving_links
+                         if all(speeds[n] for n in mech.link_nodes(name) if n not in fixed))
+    return locked_nodes, locked_links

@@ -13,6 +13,7 @@ import json
 import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from itertools import chain
 from typing import Iterable, Mapping
 
 from symkin.errors import ModelError, Problem
@@ -157,7 +158,19 @@ def _coordinate_rows(mech: "Mechanism", coords) -> list:
 
 def _checked_nodes(mech: "Mechanism", rows: list) -> tuple:
     """``mech.nodes`` with the coordinates ``rows``: finite numbers, ``dim`` per node."""
-    out, problems = [], []
+    try:
+        xyz = [tuple(map(float, row)) for row in rows]
+    except (TypeError, ValueError):
+        xyz = None
+    if xyz is not None and all(len(c) == mech.dim for c in xyz) \
+            and all(map(math.isfinite, chain.from_iterable(xyz))):
+        return tuple(zip(mech.node_names, xyz))
+    raise ModelError(_coordinate_problems(mech, rows))
+
+
+def _coordinate_problems(mech: "Mechanism", rows: list) -> list:
+    """Every node whose new coordinates are not ``dim`` finite numbers."""
+    problems = []
     for (name, _), row in zip(mech.nodes, rows):
         try:
             xyz = tuple(map(float, row))
@@ -169,10 +182,7 @@ def _checked_nodes(mech: "Mechanism", rows: list) -> tuple:
                                                      f"(dim = {mech.dim}), got {len(xyz)}"))
         elif not all(map(math.isfinite, xyz)):
             problems.append(Problem(f"nodes.{name}", f"coordinates must be finite, got {list(xyz)!r}"))
-        out.append((name, xyz))
-    if problems:
-        raise ModelError(problems)
-    return tuple(out)
+    return problems
 
 
 @dataclass(frozen=True)

@@ -129,24 +129,23 @@ def _certainly_full_hull(pts: np.ndarray, tol: float) -> bool:
     (``e_m`` the sum of principal m×m minors, the product of the m nonzero eigenvalues).
     When that bound exceeds ``100·tol`` the hull is full; otherwise ``affine_hull`` decides.
     """
-    a = pts - pts.mean(axis=0)
-    c = a.T @ a
-    tr = float(np.trace(c))
-    if tr <= 0.0:
+    a = pts - pts.sum(axis=0) / len(pts)
+    c = (a.T @ a).tolist()
+    tr = sum(c[k][k] for k in range(len(c)))
+    if not tr > 0.0:
         return False
-    if c.shape[0] == 2:
-        e = c[0, 0] * c[1, 1] - c[0, 1] * c[1, 0]
-        m = 2
+    if len(c) == 2:
+        e, m = c[0][0] * c[1][1] - c[0][1] * c[1][0], 2
     elif len(pts) == 3:
-        e = (c[0, 0] * c[1, 1] - c[0, 1] ** 2 + c[0, 0] * c[2, 2] - c[0, 2] ** 2
-             + c[1, 1] * c[2, 2] - c[1, 2] ** 2)
+        e = (c[0][0] * c[1][1] - c[0][1] ** 2 + c[0][0] * c[2][2] - c[0][2] ** 2
+             + c[1][1] * c[2][2] - c[1][2] ** 2)
         m = 2
     else:
-        e = float(np.dot(c[0], np.array([c[1, 1] * c[2, 2] - c[1, 2] * c[2, 1],
-                                           c[1, 2] * c[2, 0] - c[1, 0] * c[2, 2],
-                                           c[1, 0] * c[2, 1] - c[1, 1] * c[2, 0]])))
+        e = (c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1])
+             + c[0][1] * (c[1][2] * c[2][0] - c[1][0] * c[2][2])
+             + c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]))
         m = 3
-    return float(e) > (100.0 * tol) ** 2 * tr ** m
+    return e > (100.0 * tol) ** 2 * tr ** m
 
 
 def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
