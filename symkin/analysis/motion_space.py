@@ -116,8 +116,8 @@ class MotionSpace:
         mech = self.mechanism
         p, labels = parameters_matrix(mech, params, self.xyz)
         pf = p[:, free_mask(mech)]
-        norms = np.sqrt(np.einsum("ij,ij->i", pf, pf))
-        safe = np.where(norms > 0, norms, 1.0)
+        safe = np.sqrt(np.einsum("ij,ij->i", pf, pf))
+        safe[safe == 0.0] = 1.0  # a row that vanishes on the free coordinates stays zero
         m = (p / safe[:, None]) @ self.V
         m.setflags(write=False)
         safe.setflags(write=False)

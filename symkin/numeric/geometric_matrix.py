@@ -295,10 +295,35 @@ def geometric_matrix(mech: Mechanism, boundary: bool = False, reduced: bool = Fa
 
 
 # ---------------------------------------------------------------------- parameter rows
-def _pair_for_rotation(x: np.ndarray, idx) -> tuple[int, int]:
-    """First node of the link and the node farthest from it (best conditioned pair)."""
-    d = x[list(idx)] - x[idx[0]]
-    return idx[0], idx[int(np.argmax(np.einsum("ij,ij->i", d, d)))]
+def _pair_for_rotation(x: list, idx) -> tuple[int, int]:
+    """First node of the link and the node farthest from it (best conditioned pair).
+
+    ``x``: coordinates as nested lists; ties go to the first node in the link's order.
+    """
+    if len(idx) == 2:
+        return idx[0], idx[1]
+    first = x[idx[0]]
+    dist2 = [sum((a - b) ** 2 for a, b in zip(x[k], first)) for k in idx]
+    return idx[0], idx[dist2.index(max(dist2))]
+
+
+def _add_planar_rotations(out: np.ndarray, terms, x: list) -> np.ndarray:
+    """Add ``sign ·`` the planar angular-velocity row of each node pair to ``out``; return it.
+
+    ``terms`` are ``(row, sign, i, j)`` and ``x`` the coordinates as nested lists.  The
+    row of the pair is ``ω = n·(ẋ_j − ẋ_i)/|d|²`` with ``d = x_j − x_i`` and ``n`` = ``d``
+    turned by +90°.  Plain floats: for the few terms of a mechanism this is faster than
+    any NumPy expression.
+    """
+    for row, sign, i, j in terms:
+        (xi, yi), (xj, yj) = x[i], x[j]
+        dx, dy = xj - xi, yj - yi
+        w = sign / (dx * dx + dy * dy)
+        out[row, 2 * j] += -dy * w
+        out[row, 2 * j + 1] += dx * w
+        out[row, 2 * i] -= -dy * w
+        out[row, 2 * i + 1] -= dx * w
+    return out
 
 
 def rotation_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.ndarray:
@@ -315,14 +340,9 @@ def rotation_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> 
     dim, ncoord = pl.dim, pl.ncoord
     idx = pl.links[link]
     if dim == 2:
-        i, j = _pair_for_rotation(x, idx)
-        d = x[j] - x[i]
-        length2 = float(d @ d)
-        row = np.zeros((1, ncoord))
-        perp = np.array([-d[1], d[0]]) / length2
-        row[0, 2 * j: 2 * j + 2] += perp
-        row[0, 2 * i: 2 * i + 2] -= perp
-        return row
+        xl = x.tolist()
+        i, j = _pair_for_rotation(xl, idx)
+        return _add_planar_rotations(np.zeros((1, ncoord)), [(0, 1.0, i, j)], xl)
     # spatial: v_k - v_i = -[r_k]x ω  for every other node k  →  ω = B⁺ (v_k - v_i)
     i = idx[0]
     others = idx[1:]
@@ -410,11 +430,79 @@ def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = N
     raise ValueError(f"unknown parameter kind {kind!r}")
 
 
+@dataclass(frozen=True, eq=False)
+class _PlanarProgram:
+    """The rows of a planar parameter list: a constant block plus signed link rotations.
+
+    A planar rotation, joint, twist or velocity row is a constant (unit velocity
+    components) plus ``±`` the rotation row of a link (:func:`rotation_rows`), so the rows
+    of a whole list are a copy of one constant block and one :func:`_add_planar_rotations`.
+    A test keeps it equal to the stacked :func:`parameter_rows`.
+    """
+
+    const: np.ndarray  # (k, ncoord)
+    terms: tuple       # (row, sign, node positions of the link)
+    static: tuple      # (row, sign, i, j) when every term's link has two nodes, else ()
+
+
+def _planar_terms(pl: _Plan, param: Parameter) -> tuple[np.ndarray, list] | None:
+    """Constant rows and ``(row, sign, link)`` rotation terms of one planar parameter, or None."""
+    kind, target = param.kind, param.target
+    if kind == "rotation":
+        return np.zeros((1, pl.ncoord)), [(0, 1.0, target[0])]
+    if kind == "joint":
+        return np.zeros((1, pl.ncoord)), [(0, 1.0, target[1]), (0, -1.0, target[0])]
+    if kind == "twist":
+        const = np.zeros((3, pl.ncoord))
+        i = pl.links[target[0]][0]
+        const[0, 2 * i], const[1, 2 * i + 1] = 1.0, 1.0
+        return const, [(2, 1.0, target[0])]
+    if kind == "velocity":
+        comps = [AXES.index(param.component)] if param.component else range(2)
+        const = np.zeros((len(comps), pl.ncoord))
+        for r, c in enumerate(comps):
+            const[r, 2 * pl.index[target[0]] + c] = 1.0
+        return const, []
+    return None
+
+
+@lru_cache(maxsize=256)
+def _planar_program(topology, params: tuple) -> _PlanarProgram | None:
+    """The :class:`_PlanarProgram` of ``params`` (None when one of them is a slide)."""
+    pl = plan(topology)
+    consts, terms = [], []
+    for p in params:
+        got = _planar_terms(pl, p)
+        if got is None:
+            return None
+        start = sum(c.shape[0] for c in consts)
+        consts.append(got[0])
+        terms += [(start + r, sign, pl.links[link]) for r, sign, link in got[1]]
+    static = tuple((r, sign, ln[0], ln[1]) for r, sign, ln in terms) \
+        if all(len(t[2]) == 2 for t in terms) else ()
+    return _PlanarProgram(const=np.vstack(consts) if consts else np.zeros((0, pl.ncoord)),
+                          terms=tuple(terms), static=static)
+
+
+def _run_planar(prog: _PlanarProgram, x: np.ndarray) -> np.ndarray:
+    xl = x.tolist()
+    terms = prog.static or [(r, sign, *_pair_for_rotation(xl, ln)) for r, sign, ln in prog.terms]
+    return _add_planar_rotations(prog.const.copy(), terms, xl)
+
+
 def parameters_matrix(mech: Mechanism, params, xyz: np.ndarray | None = None) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Stacked rows and labels of a list of parameters (``xyz`` as in :func:`parameter_rows`)."""
+    """Stacked rows and labels of a list of parameters (``xyz`` as in :func:`parameter_rows`).
+
+    Planar lists without slides run their cached :class:`_PlanarProgram`; others stack
+    :func:`parameter_rows`.
+    """
+    params = tuple(params)
     x = _xyz(mech) if xyz is None else xyz
-    blocks = [parameter_rows(mech, p, x) for p in params]
     labels = tuple(lab for p in params for lab in p.labels(mech.dim))
+    prog = _planar_program(mech.topology, params) if mech.dim == 2 else None
+    if prog is not None:
+        return _run_planar(prog, x), labels
+    blocks = [parameter_rows(mech, p, x) for p in params]
     if not blocks:
         return np.zeros((0, mech.dim * len(mech.nodes))), labels
     return (np.vstack(blocks) if len(blocks) > 1 else blocks[0]), labels
