@@ -137,6 +137,9 @@ class Topology:
         return self is other or (isinstance(other, Topology) and self._hash == other._hash
                                  and self.key == other.key)
 
+    def __reduce__(self):
+        return Topology, (self.key,)  # the hash of strings differs between processes
+
     def __repr__(self) -> str:
         return f"Topology(dim={self.key[0]}, nodes={len(self.key[1])}, links={len(self.key[2])})"
 
@@ -266,7 +269,9 @@ class Mechanism:
         """
         nodes = _checked_nodes(self, _coordinate_rows(self, coords))
         topology = self.topology
-        new = object.__new__(Mechanism)  # a copy of every field but the nodes; no re-validation
+        # a copy of every field but the nodes, with the cached topology-only properties
+        # (topology, node names, mobility, ...); nothing cached depends on coordinates
+        new = object.__new__(Mechanism)
         new.__dict__.update(self.__dict__)
         new.__dict__["nodes"] = nodes
         new.__dict__["topology"] = topology
@@ -311,7 +316,7 @@ class Mechanism:
         return Topology((self.dim, self.node_names, self.links, self.fixed, self.sliders,
                          self.inputs, self.outputs, self.mobility, self.platform, self.platform_dof))
 
-    @property
+    @cached_property
     def node_names(self) -> tuple[str, ...]:
         return tuple(n for n, _ in self.nodes)
 
@@ -329,18 +334,18 @@ class Mechanism:
     def node_index(self) -> dict[str, int]:
         return {n: i for i, (n, _) in enumerate(self.nodes)}
 
-    @property
+    @cached_property
     def free_nodes(self) -> tuple[str, ...]:
         fixed = set(self.fixed)
         return tuple(n for n in self.node_names if n not in fixed)
 
-    @property
+    @cached_property
     def ground_links(self) -> tuple[str, ...]:
         """Links whose nodes are all fixed."""
         fixed = set(self.fixed)
         return tuple(name for name, ns in self.links if all(n in fixed for n in ns))
 
-    @property
+    @cached_property
     def moving_links(self) -> tuple[str, ...]:
         ground = set(self.ground_links)
         return tuple(name for name in self.link_names if name not in ground)
@@ -355,15 +360,15 @@ class Mechanism:
             return on_node[0]
         raise KeyError(ref)
 
-    @property
+    @cached_property
     def n_inputs(self) -> int:
         return sum(p.size(self.dim) for p in self.inputs)
 
-    @property
+    @cached_property
     def n_outputs(self) -> int:
         return sum(p.size(self.dim) for p in self.outputs)
 
-    @property
+    @cached_property
     def mobility_value(self) -> int:
         """Full-cycle mobility F: ``mobility`` if given, else the number of scalar inputs."""
         return self.mobility if self.mobility is not None else self.n_inputs

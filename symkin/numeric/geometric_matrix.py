@@ -121,22 +121,25 @@ def _bar_block(pl: _Plan, x: np.ndarray) -> np.ndarray:
     return block
 
 
-def _certainly_full_hull(pts: np.ndarray, tol: float) -> bool:
-    """Whether the body's nodes surely span ``min(dim, k − 1)`` dimensions (no extra rows).
+def _certainly_full_hull(pts: list, tol: float) -> bool:
+    """Whether the body's nodes ``pts`` (k lists of dim floats) surely span ``min(dim, k − 1)`` dimensions.
 
-    A cheap sufficient test that never contradicts :func:`affine_hull`: with ``C = AᵀA``
-    of the centred points and ``m = min(dim, k − 1)``, ``σ_m/σ_1 ≥ sqrt(e_m(C)/tr(C)^m)``
-    (``e_m`` the sum of principal m×m minors, the product of the m nonzero eigenvalues).
-    When that bound exceeds ``100·tol`` the hull is full; otherwise ``affine_hull`` decides.
+    A cheap sufficient test that never contradicts :func:`affine_hull` (then the body needs
+    no extra rows): with ``C = AᵀA`` of the centred points and ``m = min(dim, k − 1)``,
+    ``σ_m/σ_1 ≥ sqrt(e_m(C)/tr(C)^m)`` (``e_m`` the sum of principal m×m minors, the
+    product of the m nonzero eigenvalues).  When that bound exceeds ``100·tol`` the hull
+    is full; otherwise ``affine_hull`` decides.  Plain floats: a body has a few nodes.
     """
-    a = pts - pts.sum(axis=0) / len(pts)
-    c = (a.T @ a).tolist()
-    tr = sum(c[k][k] for k in range(len(c)))
+    k, dim = len(pts), len(pts[0])
+    mean = [sum(p[c] for p in pts) / k for c in range(dim)]
+    a = [[p[c] - mean[c] for c in range(dim)] for p in pts]
+    c = [[sum(r[i] * r[j] for r in a) for j in range(dim)] for i in range(dim)]
+    tr = sum(c[i][i] for i in range(dim))
     if not tr > 0.0:
         return False
-    if len(c) == 2:
+    if dim == 2:
         e, m = c[0][0] * c[1][1] - c[0][1] * c[1][0], 2
-    elif len(pts) == 3:
+    elif k == 3:
         e = (c[0][0] * c[1][1] - c[0][1] ** 2 + c[0][0] * c[2][2] - c[0][2] ** 2
              + c[1][1] * c[2][2] - c[1][2] ** 2)
         m = 2
@@ -150,9 +153,9 @@ def _certainly_full_hull(pts: np.ndarray, tol: float) -> bool:
 
 def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
     """Rows that make a degenerate (collinear / coplanar) body rigid out of its hull."""
-    pts = x[idx]
-    if _certainly_full_hull(pts, tol):
+    if _certainly_full_hull([x[k].tolist() for k in idx], tol):
         return []
+    pts = x[idx]
     h, _, normals = affine_hull(pts, tol)
     if h == dim or len(idx) <= h + 1:
         return []
@@ -441,6 +444,7 @@ class _PlanarProgram:
     """
 
     const: np.ndarray  # (k, ncoord)
+    labels: tuple      # of the k rows
     terms: tuple       # (row, sign, node positions of the link)
     static: tuple      # (row, sign, i, j) when every term's link has two nodes, else ()
 
@@ -481,6 +485,7 @@ def _planar_program(topology, params: tuple) -> _PlanarProgram | None:
     static = tuple((r, sign, ln[0], ln[1]) for r, sign, ln in terms) \
         if all(len(t[2]) == 2 for t in terms) else ()
     return _PlanarProgram(const=np.vstack(consts) if consts else np.zeros((0, pl.ncoord)),
+                          labels=tuple(lab for p in params for lab in p.labels(2)),
                           terms=tuple(terms), static=static)
 
 
@@ -498,10 +503,10 @@ def parameters_matrix(mech: Mechanism, params, xyz: np.ndarray | None = None) ->
     """
     params = tuple(params)
     x = _xyz(mech) if xyz is None else xyz
-    labels = tuple(lab for p in params for lab in p.labels(mech.dim))
     prog = _planar_program(mech.topology, params) if mech.dim == 2 else None
     if prog is not None:
-        return _run_planar(prog, x), labels
+        return _run_planar(prog, x), prog.labels
+    labels = tuple(lab for p in params for lab in p.labels(mech.dim))
     blocks = [parameter_rows(mech, p, x) for p in params]
     if not blocks:
         return np.zeros((0, mech.dim * len(mech.nodes))), labels
