@@ -15,6 +15,7 @@ per parameter list (:meth:`MotionSpace.restrict`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -51,8 +52,6 @@ class MotionSpace:
     U : ndarray (m, m)
         Left singular vectors of ``J_r``, by descending singular value: ``U[:, rank:]`` is an
         orthonormal basis of the left null space ``{y : yᵀ J_r = 0}`` (self-stresses).
-    xyz : ndarray (n_nodes, dim)
-        The configuration's coordinates.
     """
 
     mechanism: Mechanism
@@ -64,8 +63,12 @@ class MotionSpace:
     rank: int = 0
     J: np.ndarray | None = field(default=None, repr=False)
     U: np.ndarray | None = field(default=None, repr=False)
-    xyz: np.ndarray | None = field(default=None, repr=False)
     _restricted: dict = field(default_factory=dict, repr=False)
+
+    @cached_property
+    def xyz(self) -> np.ndarray:
+        """The configuration's coordinates, (n_nodes, dim)."""
+        return np.array([c for _, c in self.mechanism.nodes], dtype=float)
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -144,9 +147,8 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms.dof, ms.V.shape
     (1, (8, 1))
     """
-    xyz = np.array([c for _, c in mech.nodes], dtype=float)
     free = free_mask(mech)
-    jf = constraint_rows(mech, tolerances, xyz).matrix[:, free]
+    jf = constraint_rows(mech, tolerances).matrix[:, free]
     u, s, vt = svd_factors(jf)
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)
@@ -156,4 +158,4 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     singular = np.zeros(n_free)  # with the structural zeros of a wide J_r
     singular[: s.size] = s
     return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular[::-1],
-                       threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u, xyz=xyz)
+                       threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u)

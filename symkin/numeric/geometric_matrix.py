@@ -22,11 +22,13 @@ paper's A6 form, with unit rows and columns for the fixed coordinates.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
+from symkin.errors import ModelError, Problem
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.linalg import affine_hull, normal_basis
 from symkin.tolerances import DEFAULT
@@ -74,8 +76,8 @@ class _Plan:
     free: np.ndarray       # boolean mask of the free coordinates
     bar_i: np.ndarray      # (n_bars,) first node of each bar
     bar_j: np.ndarray      # (n_bars,) second node
-    bar_plus: np.ndarray   # (n_bars, dim) flat indices of +u in a (n_bars, ncoord) block
-    bar_minus: np.ndarray  # (n_bars, dim) flat indices of -u
+    bar_pairs: tuple       # (i, j) of each bar
+    bar_flat: np.ndarray   # flat indices in a (n_bars, ncoord) block: of +u (bar by bar), then of −u
     bar_owners: tuple      # owner of each bar row
     bodies: tuple          # (link name, node positions, bar rows before its extra rows), 3+ nodes
 
@@ -105,20 +107,47 @@ def plan(topology) -> _Plan:
     return _Plan(dim=dim, ncoord=ncoord, index=index,
                  links={name: tuple(index[n] for n in ns) for name, ns in links},
                  free=free,
-                 bar_i=bi, bar_j=bj, bar_plus=rows + dim * bi[:, None] + comps,
-                 bar_minus=rows + dim * bj[:, None] + comps, bar_owners=tuple(owners),
+                 bar_i=bi, bar_j=bj, bar_pairs=tuple(zip(bar_i, bar_j)),
+                 bar_flat=np.concatenate([(rows + dim * bi[:, None] + comps).ravel(),
+                                          (rows + dim * bj[:, None] + comps).ravel()]),
+                 bar_owners=tuple(owners),
                  bodies=tuple(bodies))
 
 
-def _bar_block(pl: _Plan, x: np.ndarray) -> np.ndarray:
-    """Rows of every bar (eq. A3 / A4, divided by the bar's length): ``+u`` at i, ``−u`` at j."""
-    d = x[pl.bar_j] - x[pl.bar_i]
-    u = d / np.sqrt(np.einsum("ij,ij->i", d, d))[:, None]
-    block = np.zeros((pl.bar_i.size, pl.ncoord))
-    flat = block.reshape(-1)
-    flat[pl.bar_plus] = u
-    flat[pl.bar_minus] = -u
+def _bar_block(pl: _Plan, pts: list) -> np.ndarray:
+    """Rows of every bar (eq. A3 / A4, divided by the bar's length): ``+u`` at i, ``−u`` at j.
+
+    ``pts``: the node coordinates as tuples of floats (``mech.nodes``' own); the unit
+    vectors are computed in plain floats (faster than NumPy for a mechanism's few bars)
+    and scattered with the plan's flat indices.
+    """
+    try:
+        vals = _unit_vectors(pl, pts)
+    except ZeroDivisionError:
+        at = [o for (i, j), o in zip(pl.bar_pairs, pl.bar_owners) if tuple(pts[i]) == tuple(pts[j])]
+        raise ModelError([Problem(o, "its two nodes coincide (a bar of zero length)") for o in at]) from None
+    block = np.zeros((len(pl.bar_pairs), pl.ncoord))
+    u = np.array(vals)
+    block.reshape(-1)[pl.bar_flat] = np.concatenate([u, -u])
     return block
+
+
+def _unit_vectors(pl: _Plan, pts: list) -> list:
+    """Components of the unit vector of every bar, bar by bar."""
+    vals = []
+    if pl.dim == 2:
+        for i, j in pl.bar_pairs:
+            (xi, yi), (xj, yj) = pts[i], pts[j]
+            dx, dy = xj - xi, yj - yi
+            n = math.sqrt(dx * dx + dy * dy)
+            vals += (dx / n, dy / n)
+    else:
+        for i, j in pl.bar_pairs:
+            (xi, yi, zi), (xj, yj, zj) = pts[i], pts[j]
+            dx, dy, dz = xj - xi, yj - yi, zj - zi
+            n = math.sqrt(dx * dx + dy * dy + dz * dz)
+            vals += (dx / n, dy / n, dz / n)
+    return vals
 
 
 def _certainly_full_hull(pts: list, tol: float) -> bool:
@@ -153,8 +182,6 @@ def _certainly_full_hull(pts: list, tol: float) -> bool:
 
 def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
     """Rows that make a degenerate (collinear / coplanar) body rigid out of its hull."""
-    if _certainly_full_hull([x[k].tolist() for k in idx], tol):
-        return []
     pts = x[idx]
     h, _, normals = affine_hull(pts, tol)
     if h == dim or len(idx) <= h + 1:
@@ -244,16 +271,20 @@ def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None 
     ((3, 8), 'link crank (A-B)')
     """
     pl = plan(mech.topology)
-    x = _xyz(mech) if xyz is None else xyz
-    bars = _bar_block(pl, x)
+    pts = [c for _, c in mech.nodes]
+    bars = _bar_block(pl, pts)
     pieces, owners, start = [], [], 0
     for name, idx, end in pl.bodies:
-        extra = _body_extra_rows(x, list(idx), pl.dim, pl.ncoord, tolerances.geometry)
+        if _certainly_full_hull([pts[k] for k in idx], tolerances.geometry):
+            continue
+        if xyz is None:
+            xyz = _xyz(mech)
+        extra = _body_extra_rows(xyz, list(idx), pl.dim, pl.ncoord, tolerances.geometry)
         if extra:
             pieces += [bars[start:end], np.array(extra)]
             owners += list(pl.bar_owners[start:end]) + [f"link {name} (rigidity out of its hull)"] * len(extra)
             start = end
-    sliders = _slider_rows(mech, pl, x)
+    sliders = _slider_rows(mech, pl, _xyz(mech) if xyz is None else xyz) if mech.sliders else []
     if not pieces and not sliders:
         return ConstraintRows(matrix=bars, owners=pl.bar_owners)
     pieces.append(bars[start:])

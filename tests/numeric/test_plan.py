@@ -90,3 +90,10 @@ def test_with_coordinates_shares_the_topology_and_checks_the_coordinates():
         m.with_coordinates(np.zeros((3, 2)))
     with pytest.raises(symkin.ModelError, match="nodes.A: coordinates must be numbers"):
         m.with_coordinates({"A": ("a", 0.0)})
+
+
+def test_coincident_bar_nodes_name_the_bar():
+    m = catalogue.get("fourbar_appendix")
+    at_a = m.with_coordinates({"B": m.coordinates()["A"]})
+    with pytest.raises(symkin.ModelError, match=r"link crank \(A-B\): its two nodes coincide"):
+        symkin.analyze(at_a)
