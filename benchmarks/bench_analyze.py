@@ -17,8 +17,10 @@ At ``--n`` valid configurations of each catalogue model (its free coordinates pe
 (c) ``symkin.motion_space(m)`` per configuration;
 
 (b) and (c) both on prebuilt mechanisms and in the user's loop that also builds each one
-with ``mech.with_coordinates(xyz)``; ``with_coordinates`` alone is timed too.  Every rate is
-the best of ``--repeat`` runs; ratios are to (a) of the same run.  One process, one thread.
+with ``mech.with_coordinates(xyz)``; ``with_coordinates`` alone is timed too.  The methods
+are timed in turn for ``--repeat`` rounds and the best round of each is kept, so that the
+load of a shared machine affects them alike; ratios are to (a) of the same run.  One
+process, one thread.
 """
 from __future__ import annotations
 
@@ -56,14 +58,19 @@ def baseline(f_g, q, mobility):
     return out
 
 
-def best_rate(fn, n: int, repeat: int) -> float:
-    """Configurations per second of ``fn()`` over ``n`` configurations, best of ``repeat``."""
-    gc.collect()
-    best = 0.0
+def best_rates(methods: dict, n: int, repeat: int) -> dict:
+    """Configurations per second of each ``fn()`` (over ``n`` configurations), best of ``repeat``.
+
+    The methods are timed in turn, round after round, so that a change of the machine's
+    load affects them alike; the best round of each is kept.
+    """
+    best = dict.fromkeys(methods, 0.0)
     for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        best = max(best, n / (time.perf_counter() - start))
+        for name, fn in methods.items():
+            gc.collect()
+            start = time.perf_counter()
+            fn()
+            best[name] = max(best[name], n / (time.perf_counter() - start))
     return best
 
 
@@ -83,17 +90,16 @@ def bench(name: str, n: int, repeat: int) -> dict:
     f = mech.mobility_value
     base = baseline(f_g, q[:20], f)  # warm-up
     gc.freeze()  # the sympy objects of the baseline should not slow the collector later
-    rates = {
-        "(a) sympy.lambdify(G) + numpy eigh, Python loop": best_rate(lambda: baseline(f_g, q, f), n, repeat),
-        "(b) symkin.analyze(m)": best_rate(lambda: [symkin.analyze(m) for m in mechs], n, repeat),
-        "(b) symkin.analyze(mech.with_coordinates(xyz))": best_rate(
-            lambda: [symkin.analyze(mech.with_coordinates(x)) for x in xyz], n, repeat),
-        "(c) symkin.motion_space(m)": best_rate(lambda: [symkin.motion_space(m) for m in mechs], n, repeat),
-        "(c) symkin.motion_space(mech.with_coordinates(xyz))": best_rate(
-            lambda: [symkin.motion_space(mech.with_coordinates(x)) for x in xyz], n, repeat),
-        "    mech.with_coordinates(xyz) alone": best_rate(
-            lambda: [mech.with_coordinates(x) for x in xyz], n, repeat),
-    }
+    rates = best_rates({
+        "(a) sympy.lambdify(G) + numpy eigh, Python loop": lambda: baseline(f_g, q, f),
+        "(b) symkin.analyze(m)": lambda: [symkin.analyze(m) for m in mechs],
+        "(b) symkin.analyze(mech.with_coordinates(xyz))":
+            lambda: [symkin.analyze(mech.with_coordinates(x)) for x in xyz],
+        "(c) symkin.motion_space(m)": lambda: [symkin.motion_space(m) for m in mechs],
+        "(c) symkin.motion_space(mech.with_coordinates(xyz))":
+            lambda: [symkin.motion_space(mech.with_coordinates(x)) for x in xyz],
+        "    mech.with_coordinates(xyz) alone": lambda: [mech.with_coordinates(x) for x in xyz],
+    }, n, repeat)
     gc.unfreeze()
     base = baseline(f_g, q, f)
     analyses = [symkin.analyze(m) for m in mechs]
@@ -129,7 +135,7 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--n", type=int, default=2000, help="configurations per model")
     p.add_argument("--models", nargs="+", default=["rrr_3"])
-    p.add_argument("--repeat", type=int, default=3, help="runs per method; the best is reported")
+    p.add_argument("--repeat", type=int, default=5, help="rounds (every method once per round); the best is reported")
     args = p.parse_args(argv)
     print(f"symkin {symkin.__version__}, numpy {np.__version__}, sympy {sp.__version__}, "
           f"Python {platform.python_version()}, {platform.processor() or platform.machine()}")
