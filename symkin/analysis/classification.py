@@ -316,12 +316,11 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
 
 def _locked(mech: Mechanism, ms: MotionSpace, t: float) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Free nodes that cannot move for any motion, and the moving links all of whose free nodes are such."""
-    still = (ms.node_speed_array() <= t).tolist()
-    if not any(still):
-        return (), ()
-    speeds = dict(zip(mech.node_names, still))
     fixed = set(mech.fixed)
-    locked_nodes = tuple(n for n in mech.node_names if n not in fixed and speeds[n])
+    still = {n for n, s in zip(mech.node_names, ms.node_speed_array().tolist()) if s <= t and n not in fixed}
+    if not still:
+        return (), ()
+    locked_nodes = tuple(n for n in mech.node_names if n in still)
     locked_links = tuple(name for name in mech.moving_links
-                         if all(speeds[n] for n in mech.link_nodes(name) if n not in fixed))
+                         if all(n in still for n in mech.link_nodes(name) if n not in fixed))
     return locked_nodes, locked_links

@@ -31,7 +31,7 @@ def svd_factors(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def svd_rank(s: np.ndarray, threshold: float) -> int:
     """Number of singular values strictly above ``threshold``."""
-    return sum(v > threshold for v in s.tolist())
+    return int(np.count_nonzero(s > threshold))
 
 
 def svd_null_space(a: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray, int]:
