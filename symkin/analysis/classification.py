@@ -235,9 +235,12 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     if L > f:
         types.append("IM")
 
-    m_in, n_in, lab_in = ms.restrict(mech.inputs)
-    m_out, n_out, lab_out = ms.restrict(mech.outputs)
-    k_in, k_out = m_in.shape[0], m_out.shape[0]
+    # inputs and outputs restricted in one go (rows are independent), then split
+    m_io, n_io, lab_io = ms.restrict(tuple(mech.inputs) + tuple(mech.outputs))
+    k_in = mech.n_inputs
+    m_in, n_in, lab_in = m_io[:k_in], n_io[:k_in], lab_io[:k_in]
+    m_out, n_out, lab_out = m_io[k_in:], n_io[k_in:], lab_io[k_in:]
+    k_out = m_out.shape[0]
     rk_in, rk_out = _ranked(m_in, t), _ranked(m_out, t)
     r_in, r_out, null_in, null_out = rk_in.rank, rk_out.rank, rk_in.null, rk_out.null
     if k_in and r_in < min(f, k_in):
@@ -254,8 +257,11 @@ def analyze(mech: Mechanism, tol: float | None = None, tolerances: Tolerances = 
     m_pf = None
     if mech.platform is not None:
         twist = (Parameter("twist", (mech.platform,)),)
-        m_pf, n_pf, lab_pf = ms.restrict(twist)
-        rk_pf = rk_out if twist == tuple(mech.outputs) else _ranked(m_pf, t)
+        if twist == tuple(mech.outputs):  # the usual case: the outputs are the platform's twist
+            m_pf, n_pf, lab_pf, rk_pf = m_out, n_out, lab_out, rk_out
+        else:
+            m_pf, n_pf, lab_pf = ms.restrict(twist)
+            rk_pf = _ranked(m_pf, t)
         platform_dof = rk_pf.rank
         pf_rel = _relations(rk_pf, n_pf, lab_pf, t)
         generic = mech.platform_dof if mech.platform_dof is not None else min(f, m_pf.shape[0])

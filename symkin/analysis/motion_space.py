@@ -111,9 +111,10 @@ class MotionSpace:
         arrays returned are read-only.
         """
         key = tuple(params)
-        if key not in self._restricted:
-            self._restricted[key] = self._restrict(key)
-        return self._restricted[key]
+        got = self._restricted.get(key)
+        if got is None:
+            got = self._restricted[key] = self._restrict(key)
+        return got
 
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism

@@ -159,25 +159,57 @@ def _certainly_full_hull(pts: list, tol: float) -> bool:
     product of the m nonzero eigenvalues).  When that bound exceeds ``100·tol`` the hull
     is full; otherwise ``affine_hull`` decides.  Plain floats: a body has a few nodes.
     """
-    k, dim = len(pts), len(pts[0])
-    mean = [sum(p[c] for p in pts) / k for c in range(dim)]
-    a = [[p[c] - mean[c] for c in range(dim)] for p in pts]
-    c = [[sum(r[i] * r[j] for r in a) for j in range(dim)] for i in range(dim)]
-    tr = sum(c[i][i] for i in range(dim))
-    if not tr > 0.0:
-        return False
-    if dim == 2:
-        e, m = c[0][0] * c[1][1] - c[0][1] * c[1][0], 2
-    elif k == 3:
-        e = (c[0][0] * c[1][1] - c[0][1] ** 2 + c[0][0] * c[2][2] - c[0][2] ** 2
-             + c[1][1] * c[2][2] - c[1][2] ** 2)
-        m = 2
+    k = len(pts)
+    if len(pts[0]) == 2:
+        c, m = _centred_gram_2d(pts), 2
+        tr = c[0] + c[2]
+        e = c[0] * c[2] - c[1] * c[1]
     else:
-        e = (c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1])
-             + c[0][1] * (c[1][2] * c[2][0] - c[1][0] * c[2][2])
-             + c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]))
-        m = 3
-    return e > (100.0 * tol) ** 2 * tr ** m
+        (xx, xy, xz, yy, yz, zz), m = _centred_gram_3d(pts), (2 if k == 3 else 3)
+        tr = xx + yy + zz
+        if m == 2:  # sum of the principal 2×2 minors
+            e = xx * yy - xy * xy + xx * zz - xz * xz + yy * zz - yz * yz
+        else:
+            e = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz)
+    return tr > 0.0 and e > (100.0 * tol) ** 2 * tr ** m
+
+
+def _centred_gram_2d(pts: list) -> tuple[float, float, float]:
+    """``(Cxx, Cxy, Cyy)`` of ``C = AᵀA``, ``A`` the points minus their mean."""
+    k = len(pts)
+    sx = sy = 0.0
+    for px, py in pts:
+        sx += px
+        sy += py
+    mx, my = sx / k, sy / k
+    xx = xy = yy = 0.0
+    for px, py in pts:
+        dx, dy = px - mx, py - my
+        xx += dx * dx
+        xy += dx * dy
+        yy += dy * dy
+    return xx, xy, yy
+
+
+def _centred_gram_3d(pts: list) -> tuple[float, ...]:
+    """``(Cxx, Cxy, Cxz, Cyy, Cyz, Czz)`` of ``C = AᵀA``, ``A`` the points minus their mean."""
+    k = len(pts)
+    sx = sy = sz = 0.0
+    for px, py, pz in pts:
+        sx += px
+        sy += py
+        sz += pz
+    mx, my, mz = sx / k, sy / k, sz / k
+    xx = xy = xz = yy = yz = zz = 0.0
+    for px, py, pz in pts:
+        dx, dy, dz = px - mx, py - my, pz - mz
+        xx += dx * dx
+        xy += dx * dy
+        xz += dx * dz
+        yy += dy * dy
+        yz += dy * dz
+        zz += dz * dz
+    return xx, xy, xz, yy, yz, zz
 
 
 def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
@@ -476,8 +508,8 @@ class _PlanarProgram:
 
     const: np.ndarray  # (k, ncoord)
     labels: tuple      # of the k rows
-    terms: tuple       # (row, sign, node positions of the link)
-    static: tuple      # (row, sign, i, j) when every term's link has two nodes, else ()
+    terms: tuple       # (row, sign, i, j) for a two-node link, (row, sign, node positions) for a body
+    static: bool       # every term has its pair
 
 
 def _planar_terms(pl: _Plan, param: Parameter) -> tuple[np.ndarray, list] | None:
@@ -513,16 +545,16 @@ def _planar_program(topology, params: tuple) -> _PlanarProgram | None:
         start = sum(c.shape[0] for c in consts)
         consts.append(got[0])
         terms += [(start + r, sign, pl.links[link]) for r, sign, link in got[1]]
-    static = tuple((r, sign, ln[0], ln[1]) for r, sign, ln in terms) \
-        if all(len(t[2]) == 2 for t in terms) else ()
+    terms = tuple((r, sign, *ln) if len(ln) == 2 else (r, sign, ln) for r, sign, ln in terms)
     return _PlanarProgram(const=np.vstack(consts) if consts else np.zeros((0, pl.ncoord)),
                           labels=tuple(lab for p in params for lab in p.labels(2)),
-                          terms=tuple(terms), static=static)
+                          terms=terms, static=all(len(t) == 4 for t in terms))
 
 
 def _run_planar(prog: _PlanarProgram, x: np.ndarray) -> np.ndarray:
     xl = x.tolist()
-    terms = prog.static or [(r, sign, *_pair_for_rotation(xl, ln)) for r, sign, ln in prog.terms]
+    terms = prog.terms if prog.static else \
+        [t if len(t) == 4 else (t[0], t[1], *_pair_for_rotation(xl, t[2])) for t in prog.terms]
     return _add_planar_rotations(prog.const.copy(), terms, xl)
 
 
