@@ -20,8 +20,8 @@ from functools import cached_property
 import numpy as np
 
 from symkin.model.mechanism import Mechanism
-from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_mask,
-                                             parameters_matrix, rotation_rows)
+from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_embedding,
+                                             free_mask, parameters_matrix, rotation_rows)
 from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -153,10 +153,8 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     u, s, vt = svd_factors(jf)
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)
-    n_free = jf.shape[1]
-    v = np.zeros((free.size, n_free - rank))
-    v[free] = vt[rank:].T
-    singular = np.zeros(n_free)  # with the structural zeros of a wide J_r
-    singular[: s.size] = s
-    return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular[::-1],
+    v = free_embedding(mech) @ vt[rank:].T  # zero rows for the fixed coordinates
+    n_zero = jf.shape[1] - s.size  # structural zeros of a wide J_r
+    singular = np.concatenate([np.zeros(n_zero), s[::-1]]) if n_zero else s[::-1]
+    return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
                        threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u)

@@ -144,6 +144,21 @@ class Topology:
         return f"Topology(dim={self.key[0]}, nodes={len(self.key[1])}, links={len(self.key[2])})"
 
 
+def _float_array_nodes(mech: "Mechanism", coords) -> tuple | None:
+    """``mech.nodes`` at the coordinates of a float (n, dim) array, or None for other input.
+
+    The fast path of :meth:`Mechanism.with_coordinates` (NumPy's ``tolist`` gives Python
+    floats of the right shape, so only finiteness is left to check).
+    """
+    if getattr(coords, "shape", None) != (len(mech.nodes), mech.dim) or \
+            getattr(getattr(coords, "dtype", None), "kind", None) != "f":
+        return None
+    xyz = list(map(tuple, coords.tolist()))
+    if not all(map(math.isfinite, chain.from_iterable(xyz))):
+        raise ModelError(_coordinate_problems(mech, xyz))
+    return tuple(zip(mech.node_names, xyz))
+
+
 def _coordinate_rows(mech: "Mechanism", coords) -> list:
     """Rows of new coordinates in node order, from a mapping or an (n, dim) array."""
     if isinstance(coords, Mapping):
@@ -267,7 +282,9 @@ class Mechanism:
         ...
         symkin.errors.ModelError: nodes.B: coordinates must be finite, got [0.0, nan]
         """
-        nodes = _checked_nodes(self, _coordinate_rows(self, coords))
+        nodes = _float_array_nodes(self, coords)
+        if nodes is None:
+            nodes = _checked_nodes(self, _coordinate_rows(self, coords))
         topology = self.topology
         # a copy of every field but the nodes, with the cached topology-only properties
         # (topology, node names, mobility, ...); nothing cached depends on coordinates

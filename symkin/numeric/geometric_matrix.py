@@ -34,12 +34,17 @@ from symkin.numeric.linalg import affine_hull, normal_basis
 from symkin.tolerances import DEFAULT
 
 __all__ = ["ConstraintRows", "constraint_rows", "geometric_matrix", "coordinate_labels",
-           "free_mask", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
+           "free_mask", "free_embedding", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
 
 
 def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
     """Names of the nodal velocity components, in order: ``x_A, y_A, x_B, ...``."""
     return tuple(f"{AXES[c]}_{n}" for n in mech.node_names for c in range(mech.dim))
+
+
+def free_embedding(mech: Mechanism) -> np.ndarray:
+    """The (D, n_free) 0/1 matrix that puts a vector over the free coordinates among all D."""
+    return plan(mech.topology).embed
 
 
 def free_mask(mech: Mechanism) -> np.ndarray:
@@ -74,6 +79,7 @@ class _Plan:
     index: dict            # node name → position
     links: dict            # link name → node positions
     free: np.ndarray       # boolean mask of the free coordinates
+    embed: np.ndarray      # (ncoord, n_free) 0/1 matrix: a vector over the free coordinates → all
     bar_i: np.ndarray      # (n_bars,) first node of each bar
     bar_j: np.ndarray      # (n_bars,) second node
     bar_pairs: tuple       # (i, j) of each bar
@@ -102,11 +108,13 @@ def plan(topology) -> _Plan:
     bi, bj = np.array(bar_i, dtype=int), np.array(bar_j, dtype=int)
     free = np.array([n not in fixed for n in node_names for _ in range(dim)], dtype=bool)
     free.setflags(write=False)
+    embed = np.eye(free.size)[:, free]
+    embed.setflags(write=False)
     rows = np.arange(bi.size)[:, None] * ncoord
     comps = np.arange(dim)[None, :]
     return _Plan(dim=dim, ncoord=ncoord, index=index,
                  links={name: tuple(index[n] for n in ns) for name, ns in links},
-                 free=free,
+                 free=free, embed=embed,
                  bar_i=bi, bar_j=bj, bar_pairs=tuple(zip(bar_i, bar_j)),
                  bar_flat=np.concatenate([(rows + dim * bi[:, None] + comps).ravel(),
                                           (rows + dim * bj[:, None] + comps).ravel()]),

@@ -97,3 +97,12 @@ def test_coincident_bar_nodes_name_the_bar():
     at_a = m.with_coordinates({"B": m.coordinates()["A"]})
     with pytest.raises(symkin.ModelError, match=r"link crank \(A-B\): its two nodes coincide"):
         symkin.analyze(at_a)
+
+
+def test_with_coordinates_from_float_arrays_checks_finiteness():
+    m = catalogue.get("fourbar_appendix")
+    xyz = np.array([c for _, c in m.nodes], dtype=np.float32)
+    assert m.with_coordinates(xyz).nodes == m.with_coordinates(xyz.tolist()).nodes
+    xyz[2, 1] = np.nan
+    with pytest.raises(symkin.ModelError, match="nodes.C: coordinates must be finite"):
+        m.with_coordinates(xyz)
