@@ -147,6 +147,8 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms = motion_space(get("fourbar_appendix"))
     >>> ms.dof, ms.V.shape
     (1, (8, 1))
+    >>> ms.rank, ms.J.shape, ms.U.shape  # 3 bars, 4 free coordinates: no self-stress
+    (3, (3, 4), (3, 3))
     """
     free = free_mask(mech)
     jf = constraint_rows(mech, tolerances).matrix[:, free]
