@@ -20,8 +20,8 @@ from functools import cached_property
 import numpy as np
 
 from symkin.model.mechanism import Mechanism
-from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_embedding,
-                                             free_mask, parameters_matrix, rotation_rows)
+from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_columns,
+                                             free_embedding, parameters_matrix, rotation_rows)
 from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -119,9 +119,10 @@ class MotionSpace:
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
         p, labels = parameters_matrix(mech, params, self.xyz)
-        pf = p[:, free_mask(mech)]
+        pf = free_columns(p, mech)
         safe = np.sqrt(np.einsum("ij,ij->i", pf, pf))
-        safe[safe == 0.0] = 1.0  # a row that vanishes on the free coordinates stays zero
+        if not safe.all():
+            safe[safe == 0.0] = 1.0  # a row that vanishes on the free coordinates stays zero
         m = (p / safe[:, None]) @ self.V
         m.setflags(write=False)
         safe.setflags(write=False)
@@ -150,8 +151,7 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms.rank, ms.J.shape, ms.U.shape  # 3 bars, 4 free coordinates: no self-stress
     (3, (3, 4), (3, 3))
     """
-    free = free_mask(mech)
-    jf = constraint_rows(mech, tolerances).matrix[:, free]
+    jf = free_columns(constraint_rows(mech, tolerances).matrix, mech)
     u, s, vt = svd_factors(jf)
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)

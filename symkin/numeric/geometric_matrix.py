@@ -34,7 +34,7 @@ from symkin.numeric.linalg import affine_hull, normal_basis
 from symkin.tolerances import DEFAULT
 
 __all__ = ["ConstraintRows", "constraint_rows", "geometric_matrix", "coordinate_labels",
-           "free_mask", "free_embedding", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
+           "free_mask", "free_columns", "free_embedding", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
 
 
 def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
@@ -45,6 +45,11 @@ def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
 def free_embedding(mech: Mechanism) -> np.ndarray:
     """The (D, n_free) 0/1 matrix that puts a vector over the free coordinates among all D."""
     return plan(mech.topology).embed
+
+
+def free_columns(a: np.ndarray, mech: Mechanism) -> np.ndarray:
+    """The columns of ``a`` (rows over all D coordinates) that belong to free coordinates."""
+    return a.take(plan(mech.topology).free_index, axis=1)
 
 
 def free_mask(mech: Mechanism) -> np.ndarray:
@@ -79,6 +84,7 @@ class _Plan:
     index: dict            # node name → position
     links: dict            # link name → node positions
     free: np.ndarray       # boolean mask of the free coordinates
+    free_index: np.ndarray # their positions (``take`` is faster than boolean indexing)
     embed: np.ndarray      # (ncoord, n_free) 0/1 matrix: a vector over the free coordinates → all
     bar_i: np.ndarray      # (n_bars,) first node of each bar
     bar_j: np.ndarray      # (n_bars,) second node
@@ -114,7 +120,7 @@ def plan(topology) -> _Plan:
     comps = np.arange(dim)[None, :]
     return _Plan(dim=dim, ncoord=ncoord, index=index,
                  links={name: tuple(index[n] for n in ns) for name, ns in links},
-                 free=free, embed=embed,
+                 free=free, free_index=np.flatnonzero(free), embed=embed,
                  bar_i=bi, bar_j=bj, bar_pairs=tuple(zip(bar_i, bar_j)),
                  bar_flat=np.concatenate([(rows + dim * bi[:, None] + comps).ravel(),
                                           (rows + dim * bj[:, None] + comps).ravel()]),
