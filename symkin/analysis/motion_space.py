@@ -21,7 +21,7 @@ import numpy as np
 
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_columns,
-                                             free_embedding, parameters_matrix, rotation_rows)
+                                             parameters_matrix, plan, rotation_rows)
 from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -151,11 +151,12 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms.rank, ms.J.shape, ms.U.shape  # 3 bars, 4 free coordinates: no self-stress
     (3, (3, 4), (3, 3))
     """
-    jf = free_columns(constraint_rows(mech, tolerances).matrix, mech)
+    pl = plan(mech.topology)
+    jf = constraint_rows(mech, tolerances).matrix.take(pl.free_index, axis=1)
     u, s, vt = svd_factors(jf)
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)
-    v = free_embedding(mech) @ vt[rank:].T  # zero rows for the fixed coordinates
+    v = pl.embed @ vt[rank:].T  # zero rows for the fixed coordinates
     n_zero = jf.shape[1] - s.size  # structural zeros of a wide J_r
     singular = np.concatenate([np.zeros(n_zero), s[::-1]]) if n_zero else s[::-1]
     return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,

@@ -34,17 +34,12 @@ from symkin.numeric.linalg import affine_hull, normal_basis
 from symkin.tolerances import DEFAULT
 
 __all__ = ["ConstraintRows", "constraint_rows", "geometric_matrix", "coordinate_labels",
-           "free_mask", "free_columns", "free_embedding", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
+           "free_mask", "free_columns", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
 
 
 def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
     """Names of the nodal velocity components, in order: ``x_A, y_A, x_B, ...``."""
     return tuple(f"{AXES[c]}_{n}" for n in mech.node_names for c in range(mech.dim))
-
-
-def free_embedding(mech: Mechanism) -> np.ndarray:
-    """The (D, n_free) 0/1 matrix that puts a vector over the free coordinates among all D."""
-    return plan(mech.topology).embed
 
 
 def free_columns(a: np.ndarray, mech: Mechanism) -> np.ndarray:
@@ -141,8 +136,7 @@ def _bar_block(pl: _Plan, pts: list) -> np.ndarray:
         at = [o for (i, j), o in zip(pl.bar_pairs, pl.bar_owners) if tuple(pts[i]) == tuple(pts[j])]
         raise ModelError([Problem(o, "its two nodes coincide (a bar of zero length)") for o in at]) from None
     block = np.zeros((len(pl.bar_pairs), pl.ncoord))
-    u = np.array(vals)
-    block.reshape(-1)[pl.bar_flat] = np.concatenate([u, -u])
+    block.reshape(-1)[pl.bar_flat] = vals + [-v for v in vals]
     return block
 
 
