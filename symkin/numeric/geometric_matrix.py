@@ -69,9 +69,9 @@ class _Plan:
     """What the rows of a topology need besides coordinates: indices, owners, free columns.
 
     Built once per :class:`~symkin.model.mechanism.Topology` (:func:`plan`), so that the
-    bar rows of a configuration are a few vectorised NumPy operations: every bar ``k``
+    bar rows of a configuration are one scatter into a preallocated block: every bar ``k``
     between nodes ``i`` and ``j`` puts ``+u`` in columns ``dim·i + c`` and ``−u`` in
-    ``dim·j + c`` of its row.
+    ``dim·j + c`` of its row (``bar_flat`` holds those flat positions).
     """
 
     dim: int
