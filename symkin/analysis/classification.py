@@ -35,7 +35,7 @@ from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
 from symkin.model.mechanism import Mechanism, Parameter
 from symkin.numeric.geometric_matrix import constraint_rows, free_mask, parameters_matrix
-from symkin.numeric.linalg import left_null_space, rank_and_null_space, rref
+from symkin.numeric.linalg import rref, svd_factors, svd_rank
 from symkin.tolerances import Tolerances
 
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
@@ -142,19 +142,39 @@ class Analysis:
 
 
 # ---------------------------------------------------------------------- helpers
-def _rank(m: np.ndarray, tol: float) -> tuple[int, np.ndarray]:
-    """Rank and (β-space) null space of a restricted parameter matrix, absolute ``tol``."""
-    if m.shape[0] == 0:
-        return 0, np.eye(m.shape[1])
-    rank, null, _ = rank_and_null_space(m, tol)
-    return rank, null
+@dataclass(frozen=True)
+class _Ranked:
+    """One SVD of a restricted parameter matrix ``M`` (k × L): rank, right and left null spaces."""
+
+    rank: int
+    null: np.ndarray  # (L, L - rank): β with M β = 0
+    left: np.ndarray  # (k, k - rank): γ with γᵀ M = 0
+    s: np.ndarray  # its singular values, descending (those of P̂ V: the DKP test's)
 
 
-def _relations(m: np.ndarray, norms: np.ndarray, labels, tol: float) -> tuple[Relation, ...]:
-    """Canonical (reduced row echelon) relations among the rows of ``m``, physical units."""
-    if m.shape[0] == 0:
+def _ranked(m: np.ndarray, tol: float) -> _Ranked:
+    """Rank of ``m`` with the absolute threshold ``tol``, and both null spaces."""
+    k, n = m.shape
+    if k == 0:
+        return _Ranked(0, np.eye(n), np.zeros((0, 0)), np.zeros(0))
+    u, s, vt = svd_factors(m)
+    rank = svd_rank(s, tol)
+    return _Ranked(rank, vt[rank:].T, u[:, rank:], s)
+
+
+def _rank(m: np.ndarray, tol: float) -> int:
+    """Rank of a restricted parameter matrix, absolute ``tol``."""
+    return _ranked(m, tol).rank
+
+
+def _relations(ranked: _Ranked, norms: np.ndarray, labels, tol: float) -> tuple[Relation, ...]:
+    """Canonical (reduced row echelon) relations among the rows of ``M``, physical units.
+
+    ``ranked.left`` (k × (k − rank), dimensionless) spans the relations (eq. 13, 17).
+    """
+    if ranked.left.shape[1] == 0:
         return ()
-    return canonical_relations(left_null_space(m, tol), labels, tol, norms)
+    return canonical_relations(ranked.left, labels, tol, norms)
 
 
 def _canonical_motions(b: np.ndarray, tol: float) -> np.ndarray:
@@ -243,21 +263,20 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     if indicators.is_im(L, f):
         types.append("IM")
 
-    m_in, n_in, lab_in = ms.restrict(mech.inputs)
-    m_out, n_out, lab_out = ms.restrict(mech.outputs)
-    k_in, k_out = m_in.shape[0], m_out.shape[0]
-    r_in, null_in = _rank(m_in, t)
-    r_out, null_out = _rank(m_out, t)
-    if indicators.is_dkp(indicators.restricted_singular_values(m_in, np.eye(L)), k_in, f, tolerances):
+    # inputs and outputs restricted in one go (rows are independent), then split
+    m_io, n_io, lab_io = ms.restrict(tuple(mech.inputs) + tuple(mech.outputs))
+    k_in = mech.n_inputs
+    m_in, n_in, lab_in = m_io[:k_in], n_io[:k_in], lab_io[:k_in]
+    m_out, n_out, lab_out = m_io[k_in:], n_io[k_in:], lab_io[k_in:]
+    k_out = m_out.shape[0]
+    rk_in, rk_out = _ranked(m_in, t), _ranked(m_out, t)
+    r_in, r_out, null_in, null_out = rk_in.rank, rk_out.rank, rk_in.null, rk_out.null
+    if indicators.is_dkp(rk_in.s, k_in, f, tolerances):
         types.append("DKP-input")
-    if indicators.is_dkp(indicators.restricted_singular_values(m_out, np.eye(L)), k_out, f, tolerances):
+    if indicators.is_dkp(rk_out.s, k_out, f, tolerances):
         types.append("DKP-output")
 
-    speeds = ms.node_speeds()
-    fixed = set(mech.fixed)
-    locked_nodes = tuple(n for n in mech.node_names if n not in fixed and speeds[n] <= t)
-    locked_links = tuple(name for name in mech.moving_links
-                         if all(speeds[n] <= t for n in mech.link_nodes(name) if n not in fixed))
+    locked_nodes, locked_links = _locked(mech, ms, t)
     if locked_links and f >= 1 and L > 0:  # LIM needs mobility to lose (issue 7 §1)
         types.append("LIM")
 
@@ -265,9 +284,14 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     pf_rel: tuple[Relation, ...] = ()
     m_pf = None
     if mech.platform is not None:
-        m_pf, n_pf, lab_pf = ms.restrict([Parameter("twist", (mech.platform,))])
-        platform_dof, _ = _rank(m_pf, t)
-        pf_rel = _relations(m_pf, n_pf, lab_pf, t)
+        twist = (Parameter("twist", (mech.platform,)),)
+        if twist == tuple(mech.outputs):  # the usual case: the outputs are the platform's twist
+            m_pf, n_pf, lab_pf, rk_pf = m_out, n_out, lab_out, rk_out
+        else:
+            m_pf, n_pf, lab_pf = ms.restrict(twist)
+            rk_pf = _ranked(m_pf, t)
+        platform_dof = rk_pf.rank
+        pf_rel = _relations(rk_pf, n_pf, lab_pf, t)
         generic = mech.platform_dof if mech.platform_dof is not None else min(f, m_pf.shape[0])
         if platform_dof > generic:
             types.append("constraint")
@@ -292,10 +316,12 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         zl.append("IO")
     ro = ri = False
     if k_in and k_out:
-        ro = _rank(m_out @ null_in, t)[0] > max(0, f - k_in) if null_in.shape[1] else False
-        ri = _rank(m_in @ null_out, t)[0] > max(0, f - k_out) if null_out.shape[1] else False
-        both = np.vstack([m_in, m_out])
-        rpm = (L - _rank(both, t)[0]) > max(0, f - k_in - k_out)
+        ro = _rank(m_out @ null_in, t) > max(0, f - k_in) if null_in.shape[1] else False
+        ri = _rank(m_in @ null_out, t) > max(0, f - k_out) if null_out.shape[1] else False
+        # rank([M_in; M_out]) >= max(r_in, r_out) (interlacing): its SVD only when it can matter
+        rpm_bound = max(0, f - k_in - k_out)
+        rpm = L - max(r_in, r_out) > rpm_bound and \
+            L - _rank(np.vstack([m_in, m_out]), t) > rpm_bound
         zl += [name for name, on in (("RI", ri), ("RO", ro), ("RPM", rpm)) if on]
     type2 = "DKP-input" in types or ro
     type1 = "DKP-output" in types or ri
@@ -303,7 +329,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
 
     dkp_in, dkp_out = _dkp_values(mech, ms, tolerances)
     s = ms.singular_values
-    shown = tuple(float(v) for v in s[: min(s.size, L + 3)])
+    shown = tuple(s[: min(s.size, L + 3)].tolist())
     margin = None
     if ms.threshold > 0:
         above = s[L] / ms.threshold if L < s.size else math.inf
@@ -319,8 +345,8 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),
         input_labels=lab_in, output_labels=lab_out,
         input_rank=r_in if k_in else None, output_rank=r_out if k_out else None,
-        input_relations=_relations(m_in, n_in, lab_in, t),
-        output_relations=_relations(m_out, n_out, lab_out, t),
+        input_relations=_relations(rk_in, n_in, lab_in, t),
+        output_relations=_relations(rk_out, n_out, lab_out, t),
         locked_links=locked_links, locked_nodes=locked_nodes, uncontrolled_motions=motions,
         platform=mech.platform, platform_dof=platform_dof, platform_dof_generic=generic,
         platform_relations=pf_rel, im_indicator=ms.im_indicator(f), dkp_input=dkp_in, dkp_output=dkp_out,
@@ -329,3 +355,15 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms,
         redundant_constraints=statics.redundant_constraints, self_stresses=statics.self_stresses,
         warnings=warnings)
+
+
+def _locked(mech: Mechanism, ms: MotionSpace, t: float) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Free nodes that cannot move for any motion, and the moving links all of whose free nodes are such."""
+    fixed = set(mech.fixed)
+    still = {n for n, s in zip(mech.node_names, ms.node_speed_array().tolist()) if s <= t and n not in fixed}
+    if not still:
+        return (), ()
+    locked_nodes = tuple(n for n in mech.node_names if n in still)
+    locked_links = tuple(name for name in mech.moving_links
+                         if all(n in still for n in mech.link_nodes(name) if n not in fixed))
+    return locked_nodes, locked_links

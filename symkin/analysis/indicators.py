@@ -48,7 +48,7 @@ def unit_rows(p: np.ndarray, free: np.ndarray | None = None) -> tuple[np.ndarray
     """
     p = np.asarray(p, dtype=float)
     pf = p if free is None else p[..., free]
-    norms = np.linalg.norm(pf, axis=-1) if pf.size else np.zeros(pf.shape[:-1])
+    norms = np.sqrt(np.einsum("...j,...j->...", pf, pf))
     safe = np.where(norms > 0, norms, 1.0)
     return p / safe[..., None], safe
 

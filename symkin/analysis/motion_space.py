@@ -4,18 +4,26 @@ The null space of the reduced geometric matrix is computed from the singular val
 decomposition of the dimensionless constraint matrix ``J`` (``G = Jᵀ J``), which is as
 accurate as the eigenproblem of eq. (8) but resolves singular values down to machine
 precision instead of its square root.  Eigenvalues of ``G`` are ``λ = σ²``.
+
+One SVD ``J_r = U Σ Vᵀ`` of the reduced (free-coordinate) constraint matrix gives
+everything: the singular values, the threshold ``tol · σ_max``, the motion space (the
+right singular vectors beyond the rank) and, kept on the result as :attr:`MotionSpace.U`,
+the left singular vectors, whose columns beyond the rank span the left null space of
+``J_r`` (self-stresses).  Parameter rows restricted to the motion space are computed once
+per parameter list (:meth:`MotionSpace.restrict`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from symkin.analysis import indicators
 from symkin.model.mechanism import Mechanism
-from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, free_mask,
-                                             parameters_matrix, rotation_rows)
-from symkin.numeric.linalg import svd_null_space
+from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, parameters_matrix, plan,
+                                             rotation_rows)
+from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["MotionSpace", "motion_space"]
@@ -37,6 +45,14 @@ class MotionSpace:
         structural zeros (``sqrt`` of the eigenvalues of the reduced G).
     threshold : float
         ``tol · σ_max``: singular values at or below it count as zero.
+    rank : int
+        Rank of the reduced constraint matrix ``J_r`` (rows × free coordinates).
+    J : ndarray (m, n_free)
+        The reduced, dimensionless constraint matrix (rows as
+        :func:`~symkin.numeric.geometric_matrix.constraint_rows`).
+    U : ndarray (m, m)
+        Left singular vectors of ``J_r``, by descending singular value: ``U[:, rank:]`` is an
+        orthonormal basis of the left null space ``{y : yᵀ J_r = 0}`` (self-stresses).
     """
 
     mechanism: Mechanism
@@ -45,6 +61,15 @@ class MotionSpace:
     singular_values: np.ndarray
     threshold: float
     tolerances: Tolerances = field(default=DEFAULT)
+    rank: int = 0
+    J: np.ndarray | None = field(default=None, repr=False)
+    U: np.ndarray | None = field(default=None, repr=False)
+    _restricted: dict = field(default_factory=dict, repr=False)
+
+    @cached_property
+    def xyz(self) -> np.ndarray:
+        """The configuration's coordinates, (n_nodes, dim)."""
+        return np.array([c for _, c in self.mechanism.nodes], dtype=float)
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -71,7 +96,7 @@ class MotionSpace:
         mech = self.mechanism
         rows, labels = [], []
         for link in mech.moving_links:
-            r = rotation_rows(mech, link)
+            r = rotation_rows(mech, link, self.xyz)
             rows.append(r @ self.V)
             labels += [f"omega:{link}"] if mech.dim == 2 else [f"omega:{link}.{c}" for c in "xyz"]
         if not rows:
@@ -83,18 +108,33 @@ class MotionSpace:
 
         Returns ``(M, norms, labels)`` with ``M = P̂ V`` (``P̂`` the rows divided by their
         norms over the free coordinates); relations found on ``M`` become physical
-        coefficients by dividing by ``norms``.
+        coefficients by dividing by ``norms``.  Computed once per parameter list; the
+        arrays returned are read-only.
         """
+        key = tuple(params)
+        got = self._restricted.get(key)
+        if got is None:
+            got = self._restricted[key] = self._restrict(key)
+        return got
+
+    def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
-        p, labels = parameters_matrix(mech, params)
-        p_hat, norms = indicators.unit_rows(p, free_mask(mech))
-        return p_hat @ self.V, norms, labels
+        p, labels = parameters_matrix(mech, params, self.xyz)
+        p_hat, norms = indicators.unit_rows(p, plan(mech.topology).free_index)
+        m = p_hat @ self.V
+        m.setflags(write=False)
+        norms.setflags(write=False)
+        return m, norms, labels
+
+    def node_speed_array(self) -> np.ndarray:
+        """Norm of each node's rows of V, in node order (see :meth:`node_speeds`)."""
+        n, dim = len(self.mechanism.nodes), self.mechanism.dim
+        block = self.V.reshape(n, dim * self.V.shape[1])
+        return np.sqrt(np.einsum("ij,ij->i", block, block))
 
     def node_speeds(self) -> dict[str, float]:
         """Norm of each node's rows of V: zero for a node that cannot move at all."""
-        dim = self.mechanism.dim
-        return {n: float(np.linalg.norm(self.V[dim * i: dim * i + dim]))
-                for i, n in enumerate(self.mechanism.node_names)}
+        return dict(zip(self.mechanism.node_names, self.node_speed_array().tolist()))
 
 
 def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpace:
@@ -106,14 +146,16 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms = motion_space(get("fourbar_appendix"))
     >>> ms.dof, ms.V.shape
     (1, (8, 1))
+    >>> ms.rank, ms.J.shape, ms.U.shape  # 3 bars, 4 free coordinates: no self-stress
+    (3, (3, 4), (3, 3))
     """
-    j = constraint_rows(mech, tolerances).matrix
-    free = free_mask(mech)
-    jf = j[:, free]
-    smax = float(np.linalg.norm(jf, 2)) if jf.size else 0.0
-    threshold = tolerances.rank * smax
-    s, null, _ = svd_null_space(jf, threshold)
-    v = np.zeros((free.size, null.shape[1]))
-    v[free] = null
-    return MotionSpace(mechanism=mech, V=v, dof=null.shape[1], singular_values=np.sort(s),
-                       threshold=threshold, tolerances=tolerances)
+    pl = plan(mech.topology)
+    jf = constraint_rows(mech, tolerances).matrix.take(pl.free_index, axis=1)
+    u, s, vt = svd_factors(jf)
+    threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
+    rank = svd_rank(s, threshold)
+    v = pl.embed @ vt[rank:].T  # zero rows for the fixed coordinates
+    n_zero = jf.shape[1] - s.size  # structural zeros of a wide J_r
+    singular = np.concatenate([np.zeros(n_zero), s[::-1]]) if n_zero else s[::-1]
+    return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
+                       threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u)

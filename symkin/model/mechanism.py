@@ -12,9 +12,13 @@ import hashlib
 import json
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
+from itertools import chain
 from typing import Iterable, Mapping
 
-__all__ = ["Slider", "Parameter", "Mechanism", "AXES", "TWIST_COMPONENTS"]
+from symkin.errors import ModelError, Problem
+
+__all__ = ["Slider", "Parameter", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS"]
 
 AXES = ("x", "y", "z")
 #: component names of a twist (velocity of the link's first node, then angular velocity)
@@ -112,6 +116,93 @@ class Parameter:
         return out
 
 
+class Topology:
+    """Everything of a mechanism but its node coordinates: the key of per-topology caches.
+
+    Two mechanisms at different configurations of the same model have equal topologies
+    (dimension, node names, links, fixed nodes, sliders, inputs, outputs, mobility,
+    platform).  The hash is computed once, so a cache lookup costs a dictionary probe.
+    """
+
+    __slots__ = ("key", "_hash")
+
+    def __init__(self, key: tuple):
+        self.key = key
+        self._hash = hash(key)
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other) -> bool:
+        return self is other or (isinstance(other, Topology) and self._hash == other._hash
+                                 and self.key == other.key)
+
+    def __reduce__(self):
+        return Topology, (self.key,)  # the hash of strings differs between processes
+
+    def __repr__(self) -> str:
+        return f"Topology(dim={self.key[0]}, nodes={len(self.key[1])}, links={len(self.key[2])})"
+
+
+def _float_array_nodes(mech: "Mechanism", coords) -> tuple | None:
+    """``mech.nodes`` at the coordinates of a float (n, dim) array, or None for other input.
+
+    The fast path of :meth:`Mechanism.with_coordinates` (NumPy's ``tolist`` gives Python
+    floats of the right shape, so only finiteness is left to check).
+    """
+    if getattr(coords, "shape", None) != (len(mech.nodes), mech.dim) or \
+            getattr(getattr(coords, "dtype", None), "kind", None) != "f":
+        return None
+    xyz = list(map(tuple, coords.tolist()))
+    if not all(map(math.isfinite, chain.from_iterable(xyz))):
+        raise ModelError(_coordinate_problems(mech, xyz))
+    return tuple(zip(mech.node_names, xyz))
+
+
+def _coordinate_rows(mech: "Mechanism", coords) -> list:
+    """Rows of new coordinates in node order, from a mapping or an (n, dim) array."""
+    if isinstance(coords, Mapping):
+        names = set(mech.node_names)
+        unknown = [n for n in coords if n not in names]
+        if unknown:
+            raise ModelError([Problem(f"nodes.{n}", f"no such node in {mech.name!r}") for n in unknown])
+        return [coords.get(n, xyz) for n, xyz in mech.nodes]
+    rows = coords.tolist() if hasattr(coords, "tolist") else list(coords)
+    if len(rows) != len(mech.nodes):
+        raise ModelError([Problem("nodes", f"{len(rows)} coordinate rows given for the "
+                                           f"{len(mech.nodes)} nodes of {mech.name!r}")])
+    return rows
+
+
+def _checked_nodes(mech: "Mechanism", rows: list) -> tuple:
+    """``mech.nodes`` with the coordinates ``rows``: finite numbers, ``dim`` per node."""
+    try:
+        xyz = [tuple(map(float, row)) for row in rows]
+    except (TypeError, ValueError):
+        xyz = None
+    if xyz is not None and all(len(c) == mech.dim for c in xyz) \
+            and all(map(math.isfinite, chain.from_iterable(xyz))):
+        return tuple(zip(mech.node_names, xyz))
+    raise ModelError(_coordinate_problems(mech, rows))
+
+
+def _coordinate_problems(mech: "Mechanism", rows: list) -> list:
+    """Every node whose new coordinates are not ``dim`` finite numbers."""
+    problems = []
+    for (name, _), row in zip(mech.nodes, rows):
+        try:
+            xyz = tuple(map(float, row))
+        except (TypeError, ValueError):
+            problems.append(Problem(f"nodes.{name}", f"coordinates must be numbers, got {row!r}"))
+            continue
+        if len(xyz) != mech.dim:
+            problems.append(Problem(f"nodes.{name}", f"coordinates must have {mech.dim} components "
+                                                     f"(dim = {mech.dim}), got {len(xyz)}"))
+        elif not all(map(math.isfinite, xyz)):
+            problems.append(Problem(f"nodes.{name}", f"coordinates must be finite, got {list(xyz)!r}"))
+    return problems
+
+
 @dataclass(frozen=True)
 class Mechanism:
     """A mechanism at one configuration.
@@ -174,15 +265,34 @@ class Mechanism:
     def with_coordinates(self, coords: Mapping[str, Iterable[float]] | Iterable) -> "Mechanism":
         """A copy at another configuration (same topology, parameters, sliders).
 
-        ``coords`` maps node names to coordinates, or is an (n, dim) array in node order.
-        No validation is repeated: this is the fast path used along paths and meshes.
+        ``coords`` maps node names to coordinates (nodes not named keep theirs), or is an
+        (n, dim) array in node order.  This is the fast path used along paths, meshes and
+        notebook loops: the topology is not validated again (and the copy shares its
+        :attr:`topology`), only the coordinates are checked: finite numbers, ``dim`` per
+        node; a :class:`~symkin.errors.ModelError` names the node at fault.
+
+        Examples
+        --------
+        >>> from symkin.model.catalogue import get
+        >>> m = get("fourbar_appendix")
+        >>> m.with_coordinates({"B": (0.0, 1.0)}).coordinates()["B"]
+        (0.0, 1.0)
+        >>> m.with_coordinates({"B": (0.0, float("nan"))})
+        Traceback (most recent call last):
+        ...
+        symkin.errors.ModelError: nodes.B: coordinates must be finite, got [0.0, nan]
         """
-        if isinstance(coords, Mapping):
-            new = tuple((n, tuple(float(v) for v in coords.get(n, xyz))) for n, xyz in self.nodes)
-        else:
-            rows = [tuple(float(v) for v in row) for row in coords]
-            new = tuple((n, row) for (n, _), row in zip(self.nodes, rows))
-        return replace(self, nodes=new)
+        nodes = _float_array_nodes(self, coords)
+        if nodes is None:
+            nodes = _checked_nodes(self, _coordinate_rows(self, coords))
+        topology = self.topology
+        # a copy of every field but the nodes, with the cached topology-only properties
+        # (topology, node names, mobility, ...); nothing cached depends on coordinates
+        new = object.__new__(Mechanism)
+        new.__dict__.update(self.__dict__)
+        new.__dict__["nodes"] = nodes
+        new.__dict__["topology"] = topology
+        return new
 
     def moved(self, rotation=None, translation=None, scale: float = 1.0) -> "Mechanism":
         """The same mechanism after ``x ↦ scale · R x + t`` (a similarity).
@@ -217,7 +327,13 @@ class Mechanism:
                        outputs=tuple(param(p) for p in self.outputs))
 
     # ------------------------------------------------------------------ queries
-    @property
+    @cached_property
+    def topology(self) -> Topology:
+        """The mechanism without its coordinates (see :class:`Topology`)."""
+        return Topology((self.dim, self.node_names, self.links, self.fixed, self.sliders,
+                         self.inputs, self.outputs, self.mobility, self.platform, self.platform_dof))
+
+    @cached_property
     def node_names(self) -> tuple[str, ...]:
         return tuple(n for n, _ in self.nodes)
 
@@ -235,18 +351,18 @@ class Mechanism:
     def node_index(self) -> dict[str, int]:
         return {n: i for i, (n, _) in enumerate(self.nodes)}
 
-    @property
+    @cached_property
     def free_nodes(self) -> tuple[str, ...]:
         fixed = set(self.fixed)
         return tuple(n for n in self.node_names if n not in fixed)
 
-    @property
+    @cached_property
     def ground_links(self) -> tuple[str, ...]:
         """Links whose nodes are all fixed."""
         fixed = set(self.fixed)
         return tuple(name for name, ns in self.links if all(n in fixed for n in ns))
 
-    @property
+    @cached_property
     def moving_links(self) -> tuple[str, ...]:
         ground = set(self.ground_links)
         return tuple(name for name in self.link_names if name not in ground)
@@ -261,15 +377,15 @@ class Mechanism:
             return on_node[0]
         raise KeyError(ref)
 
-    @property
+    @cached_property
     def n_inputs(self) -> int:
         return sum(p.size(self.dim) for p in self.inputs)
 
-    @property
+    @cached_property
     def n_outputs(self) -> int:
         return sum(p.size(self.dim) for p in self.outputs)
 
-    @property
+    @cached_property
     def mobility_value(self) -> int:
         """Full-cycle mobility F: ``mobility`` if given, else the number of scalar inputs."""
         return self.mobility if self.mobility is not None else self.n_inputs

@@ -22,17 +22,19 @@ paper's A6 form, with unit rows and columns for the fixed coordinates.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
+from symkin.errors import ModelError, Problem
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.linalg import affine_hull, normal_basis
 from symkin.tolerances import DEFAULT
 
 __all__ = ["ConstraintRows", "constraint_rows", "geometric_matrix", "coordinate_labels",
-           "free_mask", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
+           "free_mask", "free_columns", "parameter_rows", "parameters_matrix", "rotation_rows", "twist_rows"]
 
 
 def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
@@ -40,10 +42,14 @@ def coordinate_labels(mech: Mechanism) -> tuple[str, ...]:
     return tuple(f"{AXES[c]}_{n}" for n in mech.node_names for c in range(mech.dim))
 
 
+def free_columns(a: np.ndarray, mech: Mechanism) -> np.ndarray:
+    """The columns of ``a`` (rows over all D coordinates) that belong to free coordinates."""
+    return a.take(plan(mech.topology).free_index, axis=1)
+
+
 def free_mask(mech: Mechanism) -> np.ndarray:
-    """Boolean mask of the free (not fixed) coordinates."""
-    fixed = set(mech.fixed)
-    return np.array([n not in fixed for n in mech.node_names for _ in range(mech.dim)])
+    """Boolean mask of the free (not fixed) coordinates (read-only, shared per topology)."""
+    return plan(mech.topology).free
 
 
 @dataclass(frozen=True)
@@ -58,13 +64,162 @@ def _xyz(mech: Mechanism) -> np.ndarray:
     return np.array([xyz for _, xyz in mech.nodes], dtype=float)
 
 
-def _bar_row(x: np.ndarray, i: int, j: int, dim: int, ncoord: int) -> np.ndarray:
-    u = x[j] - x[i]
-    u = u / np.linalg.norm(u)
-    row = np.zeros(ncoord)
-    row[dim * i: dim * i + dim] = u
-    row[dim * j: dim * j + dim] = -u
-    return row
+@dataclass(frozen=True, eq=False)
+class _Plan:
+    """What the rows of a topology need besides coordinates: indices, owners, free columns.
+
+    Built once per :class:`~symkin.model.mechanism.Topology` (:func:`plan`), so that the
+    bar rows of a configuration are one scatter into a preallocated block: every bar ``k``
+    between nodes ``i`` and ``j`` puts ``+u`` in columns ``dim·i + c`` and ``−u`` in
+    ``dim·j + c`` of its row (``bar_flat`` holds those flat positions).
+    """
+
+    dim: int
+    ncoord: int
+    index: dict            # node name → position
+    links: dict            # link name → node positions
+    free: np.ndarray       # boolean mask of the free coordinates
+    free_index: np.ndarray # their positions (``take`` is faster than boolean indexing)
+    embed: np.ndarray      # (ncoord, n_free) 0/1 matrix: a vector over the free coordinates → all
+    bar_i: np.ndarray      # (n_bars,) first node of each bar
+    bar_j: np.ndarray      # (n_bars,) second node
+    bar_pairs: tuple       # (i, j) of each bar
+    bar_flat: np.ndarray   # flat indices in a (n_bars, ncoord) block: of +u (bar by bar), then of −u
+    bar_owners: tuple      # owner of each bar row
+    bodies: tuple          # (link name, node positions, bar rows before its extra rows), 3+ nodes
+
+
+@lru_cache(maxsize=64)
+def plan(topology) -> _Plan:
+    """The :class:`_Plan` of a topology (cached; ``mech.topology`` is the key)."""
+    dim, node_names, links = topology.key[:3]
+    fixed = set(topology.key[3])
+    index = {n: i for i, n in enumerate(node_names)}
+    ncoord = dim * len(node_names)
+    bar_i, bar_j, owners, bodies = [], [], [], []
+    for name, ns in links:
+        idx = [index[n] for n in ns]
+        for a in range(len(idx)):
+            for b in range(a + 1, len(idx)):
+                bar_i.append(idx[a])
+                bar_j.append(idx[b])
+                owners.append(f"link {name} ({ns[a]}-{ns[b]})")
+        if len(idx) >= 3:
+            bodies.append((name, tuple(idx), len(bar_i)))
+    bi, bj = np.array(bar_i, dtype=int), np.array(bar_j, dtype=int)
+    free = np.array([n not in fixed for n in node_names for _ in range(dim)], dtype=bool)
+    free.setflags(write=False)
+    embed = np.eye(free.size)[:, free]
+    embed.setflags(write=False)
+    rows = np.arange(bi.size)[:, None] * ncoord
+    comps = np.arange(dim)[None, :]
+    return _Plan(dim=dim, ncoord=ncoord, index=index,
+                 links={name: tuple(index[n] for n in ns) for name, ns in links},
+                 free=free, free_index=np.flatnonzero(free), embed=embed,
+                 bar_i=bi, bar_j=bj, bar_pairs=tuple(zip(bar_i, bar_j)),
+                 bar_flat=np.concatenate([(rows + dim * bi[:, None] + comps).ravel(),
+                                          (rows + dim * bj[:, None] + comps).ravel()]),
+                 bar_owners=tuple(owners),
+                 bodies=tuple(bodies))
+
+
+def _bar_block(pl: _Plan, pts: list) -> np.ndarray:
+    """Rows of every bar (eq. A3 / A4, divided by the bar's length): ``+u`` at i, ``−u`` at j.
+
+    ``pts``: the node coordinates as tuples of floats (``mech.nodes``' own); the unit
+    vectors are computed in plain floats (faster than NumPy for a mechanism's few bars)
+    and scattered with the plan's flat indices.
+    """
+    try:
+        vals = _unit_vectors(pl, pts)
+    except ZeroDivisionError:
+        at = [o for (i, j), o in zip(pl.bar_pairs, pl.bar_owners) if tuple(pts[i]) == tuple(pts[j])]
+        raise ModelError([Problem(o, "its two nodes coincide (a bar of zero length)") for o in at]) from None
+    block = np.zeros((len(pl.bar_pairs), pl.ncoord))
+    block.reshape(-1)[pl.bar_flat] = vals + [-v for v in vals]
+    return block
+
+
+def _unit_vectors(pl: _Plan, pts: list) -> list:
+    """Components of the unit vector of every bar, bar by bar."""
+    vals = []
+    if pl.dim == 2:
+        for i, j in pl.bar_pairs:
+            (xi, yi), (xj, yj) = pts[i], pts[j]
+            dx, dy = xj - xi, yj - yi
+            n = math.sqrt(dx * dx + dy * dy)
+            vals += (dx / n, dy / n)
+    else:
+        for i, j in pl.bar_pairs:
+            (xi, yi, zi), (xj, yj, zj) = pts[i], pts[j]
+            dx, dy, dz = xj - xi, yj - yi, zj - zi
+            n = math.sqrt(dx * dx + dy * dy + dz * dz)
+            vals += (dx / n, dy / n, dz / n)
+    return vals
+
+
+def _certainly_full_hull(pts: list, tol: float) -> bool:
+    """Whether the body's nodes ``pts`` (k lists of dim floats) surely span ``min(dim, k − 1)`` dimensions.
+
+    A cheap sufficient test that never contradicts :func:`affine_hull` (then the body needs
+    no extra rows): with ``C = AᵀA`` of the centred points and ``m = min(dim, k − 1)``,
+    ``σ_m/σ_1 ≥ sqrt(e_m(C)/tr(C)^m)`` (``e_m`` the sum of principal m×m minors, the
+    product of the m nonzero eigenvalues).  When that bound exceeds ``100·tol`` the hull
+    is full; otherwise ``affine_hull`` decides.  Plain floats: a body has a few nodes.
+    """
+    k = len(pts)
+    if len(pts[0]) == 2:
+        c, m = _centred_gram_2d(pts), 2
+        tr = c[0] + c[2]
+        e = c[0] * c[2] - c[1] * c[1]
+    else:
+        (xx, xy, xz, yy, yz, zz), m = _centred_gram_3d(pts), (2 if k == 3 else 3)
+        tr = xx + yy + zz
+        if m == 2:  # sum of the principal 2×2 minors
+            e = xx * yy - xy * xy + xx * zz - xz * xz + yy * zz - yz * yz
+        else:
+            e = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz)
+    return tr > 0.0 and e > (100.0 * tol) ** 2 * tr ** m
+
+
+def _centred_gram_2d(pts: list) -> tuple[float, float, float]:
+    """``(Cxx, Cxy, Cyy)`` of ``C = AᵀA``, ``A`` the points minus their mean, over its largest entry."""
+    k = len(pts)
+    sx = sy = 0.0
+    for px, py in pts:
+        sx += px
+        sy += py
+    mx, my = sx / k, sy / k
+    h = max(max(abs(px - mx), abs(py - my)) for px, py in pts) or 1.0  # scale: no overflow at 1e100
+    xx = xy = yy = 0.0
+    for px, py in pts:
+        dx, dy = (px - mx) / h, (py - my) / h
+        xx += dx * dx
+        xy += dx * dy
+        yy += dy * dy
+    return xx, xy, yy
+
+
+def _centred_gram_3d(pts: list) -> tuple[float, ...]:
+    """``(Cxx, Cxy, Cxz, Cyy, Cyz, Czz)`` of ``C = AᵀA``, ``A`` the points minus their mean, over its largest entry."""
+    k = len(pts)
+    sx = sy = sz = 0.0
+    for px, py, pz in pts:
+        sx += px
+        sy += py
+        sz += pz
+    mx, my, mz = sx / k, sy / k, sz / k
+    h = max(max(abs(px - mx), abs(py - my), abs(pz - mz)) for px, py, pz in pts) or 1.0
+    xx = xy = xz = yy = yz = zz = 0.0
+    for px, py, pz in pts:
+        dx, dy, dz = (px - mx) / h, (py - my) / h, (pz - mz) / h
+        xx += dx * dx
+        xy += dx * dy
+        xz += dx * dz
+        yy += dy * dy
+        yz += dy * dz
+        zz += dz * dz
+    return xx, xy, xz, yy, yz, zz
 
 
 def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
@@ -117,27 +272,10 @@ def _frame(pts: np.ndarray, h: int) -> list[int]:
     return frame
 
 
-def constraint_rows(mech: Mechanism, tolerances=DEFAULT) -> ConstraintRows:
-    """All constraint rows of ``mech`` (see module docstring), over all coordinates."""
-    return _constraint_rows_cached(mech, tolerances.geometry)
-
-
-@lru_cache(maxsize=256)
-def _constraint_rows_cached(mech: Mechanism, geometry_tol: float) -> ConstraintRows:
-    x = _xyz(mech)
-    dim, ncoord = mech.dim, x.size
-    index = mech.node_index()
-    rows, owners = [], []
-    for name, ns in mech.links:
-        idx = [index[n] for n in ns]
-        for a in range(len(idx)):
-            for b in range(a + 1, len(idx)):
-                rows.append(_bar_row(x, idx[a], idx[b], dim, ncoord))
-                owners.append(f"link {name} ({ns[a]}-{ns[b]})")
-        if len(idx) >= 3:
-            extra = _body_extra_rows(x, idx, dim, ncoord, geometry_tol)
-            rows += extra
-            owners += [f"link {name} (rigidity out of its hull)"] * len(extra)
+def _slider_rows(mech: Mechanism, pl: _Plan, x: np.ndarray) -> list[np.ndarray]:
+    """Rows of every slider: ``n·(ẋ_P − …) = 0`` for each normal ``n`` of its line / plane."""
+    dim, ncoord, index = pl.dim, pl.ncoord, pl.index
+    rows = []
     for s in mech.sliders:
         p = index[s.node]
         if s.kind == "moving_line":
@@ -157,9 +295,47 @@ def _constraint_rows_cached(mech: Mechanism, geometry_tol: float) -> ConstraintR
             for k, w in weights.items():
                 row[dim * k: dim * k + dim] += w * n
             rows.append(row)
-            owners.append(f"slider {s.id}")
-    matrix = np.array(rows).reshape(len(rows), ncoord)
-    return ConstraintRows(matrix=matrix, owners=tuple(owners))
+    return rows
+
+
+def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None = None) -> ConstraintRows:
+    """All constraint rows of ``mech`` (see module docstring), over all coordinates.
+
+    Rows come link by link (a link's bars, then its rows out of a degenerate hull), then
+    slider by slider.  ``xyz`` (n_nodes, dim), when given, are ``mech``'s coordinates as
+    an array (saves converting them again).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> rows = constraint_rows(get("fourbar_appendix"))
+    >>> rows.matrix.shape, rows.owners[0]
+    ((3, 8), 'link crank (A-B)')
+    """
+    pl = plan(mech.topology)
+    pts = [c for _, c in mech.nodes]
+    bars = _bar_block(pl, pts)
+    pieces, owners, start = [], [], 0
+    for name, idx, end in pl.bodies:
+        if _certainly_full_hull([pts[k] for k in idx], tolerances.geometry):
+            continue
+        if xyz is None:
+            xyz = _xyz(mech)
+        extra = _body_extra_rows(xyz, list(idx), pl.dim, pl.ncoord, tolerances.geometry)
+        if extra:
+            pieces += [bars[start:end], np.array(extra)]
+            owners += list(pl.bar_owners[start:end]) + [f"link {name} (rigidity out of its hull)"] * len(extra)
+            start = end
+    sliders = _slider_rows(mech, pl, _xyz(mech) if xyz is None else xyz) if mech.sliders else []
+    if not pieces and not sliders:
+        return ConstraintRows(matrix=bars, owners=pl.bar_owners)
+    pieces.append(bars[start:])
+    owners += list(pl.bar_owners[start:])
+    if sliders:
+        pieces.append(np.array(sliders))
+        owners += [f"slider {s.id}" for s in mech.sliders
+                   for _ in range(1 if s.kind == "plane" else mech.dim - 1)]
+    return ConstraintRows(matrix=np.vstack(pieces), owners=tuple(owners))
 
 
 def geometric_matrix(mech: Mechanism, boundary: bool = False, reduced: bool = False) -> np.ndarray:
@@ -195,33 +371,54 @@ def geometric_matrix(mech: Mechanism, boundary: bool = False, reduced: bool = Fa
 
 
 # ---------------------------------------------------------------------- parameter rows
-def _pair_for_rotation(x: np.ndarray, idx: list[int]) -> tuple[int, int]:
-    """First node of the link and the node farthest from it (best conditioned pair)."""
-    dists = [np.linalg.norm(x[k] - x[idx[0]]) for k in idx]
-    return idx[0], idx[int(np.argmax(dists))]
+def _pair_for_rotation(x: list, idx) -> tuple[int, int]:
+    """First node of the link and the node farthest from it (best conditioned pair).
+
+    ``x``: coordinates as nested lists; ties go to the first node in the link's order.
+    """
+    if len(idx) == 2:
+        return idx[0], idx[1]
+    first = x[idx[0]]
+    dist2 = [sum((a - b) ** 2 for a, b in zip(x[k], first)) for k in idx]
+    return idx[0], idx[dist2.index(max(dist2))]
 
 
-def rotation_rows(mech: Mechanism, link: str) -> np.ndarray:
+def _add_planar_rotations(out: np.ndarray, terms, x: list) -> np.ndarray:
+    """Add ``sign ·`` the planar angular-velocity row of each node pair to ``out``; return it.
+
+    ``terms`` are ``(row, sign, i, j)`` and ``x`` the coordinates as nested lists.  The
+    row of the pair is ``ω = n·(ẋ_j − ẋ_i)/|d|²`` with ``d = x_j − x_i`` and ``n`` = ``d``
+    turned by +90°.  Plain floats: for the few terms of a mechanism this is faster than
+    any NumPy expression.
+    """
+    for row, sign, i, j in terms:
+        (xi, yi), (xj, yj) = x[i], x[j]
+        dx, dy = xj - xi, yj - yi
+        w = sign / (dx * dx + dy * dy)
+        out[row, 2 * j] += -dy * w
+        out[row, 2 * j + 1] += dx * w
+        out[row, 2 * i] -= -dy * w
+        out[row, 2 * i + 1] -= dx * w
+    return out
+
+
+def rotation_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.ndarray:
     """Rows giving the angular velocity of ``link`` from nodal velocities.
 
     Planar: one row, ``ω = n·(ẋ_j − ẋ_i)/|x_j − x_i|``.  Spatial: three rows (ωx, ωy,
     ωz), the least-squares solution of ``ẋ_k − ẋ_i = ω × (x_k − x_i)`` over the link's
     nodes; for a rod (collinear nodes) this is the angular velocity normal to its axis
-    (the spin about the axis does not move any node and is not defined).
+    (the spin about the axis does not move any node and is not defined).  ``xyz``: the
+    coordinates as an (n_nodes, dim) array, when the caller has them.
     """
-    x = _xyz(mech)
-    dim, ncoord = mech.dim, x.size
-    index = mech.node_index()
-    idx = [index[n] for n in mech.link_nodes(link)]
+    pl = plan(mech.topology)
+    x = _xyz(mech) if xyz is None else xyz
+    dim, ncoord = pl.dim, pl.ncoord
+    idx = pl.links[link]
     if dim == 2:
-        i, j = _pair_for_rotation(x, idx)
-        d = x[j] - x[i]
-        length2 = float(d @ d)
-        row = np.zeros(ncoord)
-        perp = np.array([-d[1], d[0]]) / length2
-        row[2 * j: 2 * j + 2] += perp
-        row[2 * i: 2 * i + 2] -= perp
-        return row[None, :]
+        xl = x.tolist()
+        i, j = _pair_for_rotation(xl, idx)
+        return _add_planar_rotations(np.zeros((1, ncoord)), [(0, 1.0, i, j)], xl)
     # spatial: v_k - v_i = -[r_k]x ω  for every other node k  →  ω = B⁺ (v_k - v_i)
     i = idx[0]
     others = idx[1:]
@@ -230,7 +427,7 @@ def rotation_rows(mech: Mechanism, link: str) -> np.ndarray:
         r = x[k] - x[i]
         blocks.append(-np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]]))
     b = np.vstack(blocks)  # (3·len(others), 3)
-    h, _, _ = affine_hull(x[idx], DEFAULT.geometry)
+    h, _, _ = affine_hull(x[list(idx)], DEFAULT.geometry)
     bpinv = np.linalg.pinv(b, rcond=1e-10) if h >= 2 else _rod_pinv(x[idx[-1]] - x[i], len(others))
     rows = np.zeros((3, ncoord))
     for col, k in enumerate(others):
@@ -248,14 +445,14 @@ def _rod_pinv(r: np.ndarray, n_others: int) -> np.ndarray:
     return out
 
 
-def twist_rows(mech: Mechanism, link: str) -> np.ndarray:
+def twist_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.ndarray:
     """Velocity of the link's first node followed by its angular velocity (3 or 6 rows)."""
-    dim = mech.dim
-    ncoord = dim * len(mech.nodes)
-    i = mech.node_index()[mech.link_nodes(link)[0]]
-    vel = np.zeros((dim, ncoord))
+    pl = plan(mech.topology)
+    dim = pl.dim
+    i = pl.links[link][0]
+    vel = np.zeros((dim, pl.ncoord))
     vel[:, dim * i: dim * i + dim] = np.eye(dim)
-    return np.vstack([vel, rotation_rows(mech, link)])
+    return np.vstack([vel, rotation_rows(mech, link, xyz)])
 
 
 def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
@@ -267,19 +464,21 @@ def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
     return vec / np.linalg.norm(vec)
 
 
-def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
-    """Rows (physical units) of one kinematic parameter over all nodal velocity components."""
-    dim = mech.dim
-    ncoord = dim * len(mech.nodes)
-    index = mech.node_index()
+def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = None) -> np.ndarray:
+    """Rows (physical units) of one kinematic parameter over all nodal velocity components.
+
+    ``xyz``: the coordinates as an (n_nodes, dim) array, when the caller has them.
+    """
+    pl = plan(mech.topology)
+    dim, ncoord, index = pl.dim, pl.ncoord, pl.index
     kind = param.kind
     if kind == "rotation":
-        rows = rotation_rows(mech, param.target[0])
+        rows = rotation_rows(mech, param.target[0], xyz)
         return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
     if kind == "joint":
-        return rotation_rows(mech, param.target[1]) - rotation_rows(mech, param.target[0])
+        return rotation_rows(mech, param.target[1], xyz) - rotation_rows(mech, param.target[0], xyz)
     if kind == "twist":
-        return twist_rows(mech, param.target[0])
+        return twist_rows(mech, param.target[0], xyz)
     if kind == "velocity":
         i = index[param.target[0]]
         comps = [AXES.index(param.component)] if param.component else range(dim)
@@ -289,7 +488,7 @@ def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
         return rows
     if kind == "slide":
         s = mech.slider(param.target[0])
-        x = _xyz(mech)
+        x = _xyz(mech) if xyz is None else xyz
         p = index[s.node]
         row = np.zeros(ncoord)
         if s.kind == "moving_line":
@@ -307,11 +506,81 @@ def parameter_rows(mech: Mechanism, param: Parameter) -> np.ndarray:
     raise ValueError(f"unknown parameter kind {kind!r}")
 
 
-def parameters_matrix(mech: Mechanism, params) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Stacked rows and labels of a list of parameters."""
-    ncoord = mech.dim * len(mech.nodes)
-    blocks, labels = [np.zeros((0, ncoord))], []
+@dataclass(frozen=True, eq=False)
+class _PlanarProgram:
+    """The rows of a planar parameter list: a constant block plus signed link rotations.
+
+    A planar rotation, joint, twist or velocity row is a constant (unit velocity
+    components) plus ``±`` the rotation row of a link (:func:`rotation_rows`), so the rows
+    of a whole list are a copy of one constant block and one :func:`_add_planar_rotations`.
+    A test keeps it equal to the stacked :func:`parameter_rows`.
+    """
+
+    const: np.ndarray  # (k, ncoord)
+    labels: tuple      # of the k rows
+    terms: tuple       # (row, sign, i, j) for a two-node link, (row, sign, node positions) for a body
+    static: bool       # every term has its pair
+
+
+def _planar_terms(pl: _Plan, param: Parameter) -> tuple[np.ndarray, list] | None:
+    """Constant rows and ``(row, sign, link)`` rotation terms of one planar parameter, or None."""
+    kind, target = param.kind, param.target
+    if kind == "rotation":
+        return np.zeros((1, pl.ncoord)), [(0, 1.0, target[0])]
+    if kind == "joint":
+        return np.zeros((1, pl.ncoord)), [(0, 1.0, target[1]), (0, -1.0, target[0])]
+    if kind == "twist":
+        const = np.zeros((3, pl.ncoord))
+        i = pl.links[target[0]][0]
+        const[0, 2 * i], const[1, 2 * i + 1] = 1.0, 1.0
+        return const, [(2, 1.0, target[0])]
+    if kind == "velocity":
+        comps = [AXES.index(param.component)] if param.component else range(2)
+        const = np.zeros((len(comps), pl.ncoord))
+        for r, c in enumerate(comps):
+            const[r, 2 * pl.index[target[0]] + c] = 1.0
+        return const, []
+    return None
+
+
+@lru_cache(maxsize=256)
+def _planar_program(topology, params: tuple) -> _PlanarProgram | None:
+    """The :class:`_PlanarProgram` of ``params`` (None when one of them is a slide)."""
+    pl = plan(topology)
+    consts, terms = [], []
     for p in params:
-        blocks.append(parameter_rows(mech, p))
-        labels += list(p.labels(mech.dim))
-    return np.vstack(blocks), tuple(labels)
+        got = _planar_terms(pl, p)
+        if got is None:
+            return None
+        start = sum(c.shape[0] for c in consts)
+        consts.append(got[0])
+        terms += [(start + r, sign, pl.links[link]) for r, sign, link in got[1]]
+    terms = tuple((r, sign, *ln) if len(ln) == 2 else (r, sign, ln) for r, sign, ln in terms)
+    return _PlanarProgram(const=np.vstack(consts) if consts else np.zeros((0, pl.ncoord)),
+                          labels=tuple(lab for p in params for lab in p.labels(2)),
+                          terms=terms, static=all(len(t) == 4 for t in terms))
+
+
+def _run_planar(prog: _PlanarProgram, x: np.ndarray) -> np.ndarray:
+    xl = x.tolist()
+    terms = prog.terms if prog.static else \
+        [t if len(t) == 4 else (t[0], t[1], *_pair_for_rotation(xl, t[2])) for t in prog.terms]
+    return _add_planar_rotations(prog.const.copy(), terms, xl)
+
+
+def parameters_matrix(mech: Mechanism, params, xyz: np.ndarray | None = None) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Stacked rows and labels of a list of parameters (``xyz`` as in :func:`parameter_rows`).
+
+    Planar lists without slides run their cached :class:`_PlanarProgram`; others stack
+    :func:`parameter_rows`.
+    """
+    params = tuple(params)
+    x = _xyz(mech) if xyz is None else xyz
+    prog = _planar_program(mech.topology, params) if mech.dim == 2 else None
+    if prog is not None:
+        return _run_planar(prog, x), prog.labels
+    labels = tuple(lab for p in params for lab in p.labels(mech.dim))
+    blocks = [parameter_rows(mech, p, x) for p in params]
+    if not blocks:
+        return np.zeros((0, mech.dim * len(mech.nodes))), labels
+    return (np.vstack(blocks) if len(blocks) > 1 else blocks[0]), labels

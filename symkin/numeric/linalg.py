@@ -7,9 +7,31 @@ stated reference so that the caller controls scale invariance (see
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import lapack
 
-__all__ = ["svd_null_space", "rank_and_null_space", "left_null_space", "rref", "normal_basis",
-           "affine_hull", "independent_rows"]
+__all__ = ["svd_factors", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
+           "normal_basis", "affine_hull", "independent_rows"]
+
+
+def svd_factors(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Full SVD ``a = U diag(s) Vt``: ``U`` (m, m), ``s`` (min(m, n),) descending, ``Vt`` (n, n).
+
+    LAPACK's ``dgesdd`` called directly (NumPy's ``svd`` calls the same routine through a
+    thicker wrapper, which costs more than the factorisation for the small matrices of a
+    mechanism); empty matrices give identities and no singular values.
+    """
+    m, n = a.shape
+    if m == 0 or n == 0:
+        return np.eye(m), np.zeros(0), np.eye(n)
+    u, s, vt, info = lapack.dgesdd(a)
+    if info != 0:  # not converged (or bad input): NumPy's own driver raises a clear error
+        return np.linalg.svd(a, full_matrices=True)
+    return u, s, vt
+
+
+def svd_rank(s: np.ndarray, threshold: float) -> int:
+    """Number of singular values strictly above ``threshold``."""
+    return int(np.count_nonzero(s > threshold))
 
 
 def svd_null_space(a: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndarray, int]:
@@ -24,10 +46,10 @@ def svd_null_space(a: np.ndarray, threshold: float) -> tuple[np.ndarray, np.ndar
         return np.zeros(0), np.zeros((0, 0)), 0
     if m == 0:
         return np.zeros(n), np.eye(n), 0
-    _, s, vt = np.linalg.svd(a, full_matrices=True)
+    _, s, vt = svd_factors(a)
     s_full = np.zeros(n)
     s_full[: s.size] = s
-    rank = int(np.count_nonzero(s > threshold))
+    rank = svd_rank(s, threshold)
     return s_full, vt[rank:].T.copy(), rank
 
 
