@@ -34,7 +34,6 @@ from symkin.analysis.relations import Relation, canonical_relations
 from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
 from symkin.model.mechanism import Mechanism, Parameter
-from symkin.numeric.geometric_matrix import constraint_rows, free_mask, parameters_matrix
 from symkin.numeric.linalg import rref, svd_factors, svd_rank
 from symkin.tolerances import Tolerances
 
@@ -195,33 +194,28 @@ def _motion(mech: Mechanism, vec: np.ndarray, moves_out, moves_pf) -> Motion:
 
 
 # ---------------------------------------------------------------------- main
-def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances) -> tuple[float | None, float | None]:
+def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances, p_hat: np.ndarray,
+                singular: tuple[np.ndarray, np.ndarray]) -> tuple[float | None, float | None]:
     """Signed DKP values of the inputs and outputs (:func:`symkin.analysis.indicators.dkp_value`).
 
-    Defined where ``L = F``; None elsewhere and when there are no such parameters.
-    ``J_S`` is chosen by the evaluators' rule (:func:`symkin.analysis.indicators.basis_rows`)
-    at this configuration: where no constraint row is redundant (every catalogue
-    mechanism) that is every effective row, the evaluators' choice, and the values equal
-    theirs.  With redundant rows the magnitude ``|det(P̂ V)|`` is the same for any choice;
-    the sign is relative to the rows chosen and may differ from the evaluators'.
+    ``p_hat`` are the unit input rows then output rows over the free coordinates, and
+    ``singular`` the singular values of their restrictions ``P̂ V``.  Defined where
+    ``L = F``; None elsewhere and when there are no such parameters.  ``J_S`` is chosen by
+    the evaluators' rule (:func:`symkin.analysis.indicators.basis_rows`) at this
+    configuration: where no constraint row is redundant (every catalogue mechanism) that
+    is every effective row, the evaluators' choice, and the values equal theirs.  With
+    redundant rows the magnitude ``|det(P̂ V)|`` is the same for any choice; the sign is
+    relative to the rows chosen and may differ from the evaluators'.
     """
     f = mech.mobility_value
     if ms.dof != f:
         return None, None
-    free = free_mask(mech)
-    jf = constraint_rows(mech, tolerances).matrix[:, free]
-    rows = indicators.basis_rows(jf, f, tolerances)
-    js = None if rows is None else jf[list(rows)]
-    v = ms.V[free]
+    rows = indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank)
+    js = None if rows is None else ms.J[list(rows)]
+    k_in = mech.n_inputs
     out = []
-    for params in (mech.inputs, mech.outputs):
-        p, _ = parameters_matrix(mech, params)
-        if p.shape[0] == 0:
-            out.append(None)
-            continue
-        p_hat = indicators.unit_rows(p[:, free])[0]
-        sv = indicators.restricted_singular_values(p_hat, v)
-        out.append(float(indicators.dkp_value(p_hat, sv, f, js)))
+    for hat, sv in ((p_hat[:k_in], singular[0]), (p_hat[k_in:], singular[1])):
+        out.append(float(indicators.dkp_value(hat, sv, f, js)) if hat.shape[0] else None)
     return out[0], out[1]
 
 
@@ -264,7 +258,8 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         types.append("IM")
 
     # inputs and outputs restricted in one go (rows are independent), then split
-    m_io, n_io, lab_io = ms.restrict(tuple(mech.inputs) + tuple(mech.outputs))
+    io = tuple(mech.inputs) + tuple(mech.outputs)
+    m_io, n_io, lab_io = ms.restrict(io)
     k_in = mech.n_inputs
     m_in, n_in, lab_in = m_io[:k_in], n_io[:k_in], lab_io[:k_in]
     m_out, n_out, lab_out = m_io[k_in:], n_io[k_in:], lab_io[k_in:]
@@ -327,7 +322,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     type1 = "DKP-output" in types or ri
     ga = "type 3" if (type1 and type2) else "type 2" if type2 else "type 1" if type1 else None
 
-    dkp_in, dkp_out = _dkp_values(mech, ms, tolerances)
+    dkp_in, dkp_out = _dkp_values(mech, ms, tolerances, ms.unit_rows(io), (rk_in.s, rk_out.s))
     s = ms.singular_values
     shown = tuple(s[: min(s.size, L + 3)].tolist())
     margin = None

@@ -163,16 +163,22 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
     return np.prod(s[..., : min(k, mobility)], axis=-1)
 
 
-def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances) -> tuple[int, ...] | None:
+def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances, rank: int | None = None) -> tuple[int, ...] | None:
     """The ``nf − F`` independent constraint rows ``J_S`` of ``jf`` (m, nf), or None.
 
     :func:`symkin.numeric.linalg.independent_rows` (the rule the evaluators apply once, at a
     generic configuration; here it is applied at the configuration of ``jf``: where every
     effective row is needed, as in most mechanisms, both give all of them); None when
-    ``jf`` has fewer than ``nf − F`` independent rows here (an IM configuration).
+    ``jf`` has fewer than ``nf − F`` independent rows here (an IM configuration).  A caller
+    that knows ``rank(jf)`` passes it: when it is ``nf − F`` and exactly that many rows are
+    nonzero, they are the rows (what the pivoted QR would choose), with no factorisation.
     """
     count = jf.shape[1] - mobility
     if count <= 0:
         return ()
+    if rank == count:
+        nonzero = np.flatnonzero(np.any(jf != 0.0, axis=1))
+        if nonzero.size == count:
+            return tuple(nonzero.tolist())
     rows = independent_rows(jf, tol.rank, count)
     return rows if len(rows) == count else None

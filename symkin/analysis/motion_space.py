@@ -117,13 +117,21 @@ class MotionSpace:
             got = self._restricted[key] = self._restrict(key)
         return got
 
+    def unit_rows(self, params) -> np.ndarray:
+        """``P̂`` over the free coordinates: the unit parameter rows that :meth:`restrict` projects."""
+        self.restrict(params)
+        return self._restricted[("unit", tuple(params))]
+
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
         p, labels = parameters_matrix(mech, params, self.xyz)
-        p_hat, norms = indicators.unit_rows(p, plan(mech.topology).free_index)
+        free = plan(mech.topology).free_index
+        p_hat, norms = indicators.unit_rows(p, free)
         m = p_hat @ self.V
-        m.setflags(write=False)
-        norms.setflags(write=False)
+        hat_free = p_hat.take(free, axis=1)
+        for a in (m, norms, hat_free):
+            a.setflags(write=False)
+        self._restricted[("unit", params)] = hat_free
         return m, norms, labels
 
     def node_speed_array(self) -> np.ndarray:
