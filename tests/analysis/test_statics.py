@@ -14,7 +14,7 @@ from symkin.analysis.statics import constraint_labels, frame_dependent, self_str
 from symkin.model import catalogue
 from symkin.numeric.geometric_matrix import constraint_rows
 from tests.conftest import EXAMPLES
-from tests.test_invariance import MODELS, load, rotation_matrix
+from tests.analysis.test_invariance import MODELS, load, rotation_matrix
 
 
 def _stress(mech) -> dict:

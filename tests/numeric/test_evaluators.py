@@ -579,7 +579,7 @@ def test_rigid_motion_and_scaling_change_no_indicator(name, angle, shift, scale)
         assert a[key] == b[key]
 
 
-EXAMPLES = sorted((Path(__file__).resolve().parent.parent / "papers_examples").glob("*.toml"))
+EXAMPLES = sorted((Path(__file__).resolve().parents[2] / "papers_examples").glob("*.toml"))
 
 
 @pytest.mark.slow

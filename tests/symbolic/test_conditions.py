@@ -26,7 +26,7 @@ from symkin.model import catalogue
 from symkin.model.mechanism import Parameter
 from symkin.numeric.geometric_matrix import constraint_rows, free_mask, parameters_matrix
 from symkin.symbolic import symbolic_model
-from tests.test_symbolic_matrices import EXTRA_MODELS
+from tests.symbolic.test_matrices import EXTRA_MODELS
 
 
 # ---------------------------------------------------------------------- numeric references

@@ -20,7 +20,7 @@ from symkin.analysis.batch import evaluators
 
 HAVE_CC = shutil.which(codegen.find_compiler()) is not None
 needs_cc = pytest.mark.skipif(not HAVE_CC, reason="no C compiler on this machine")
-FOURBAR = str(Path(__file__).resolve().parent.parent / "papers_examples" / "fourbar_appendix.toml")
+FOURBAR = str(Path(__file__).resolve().parents[2] / "papers_examples" / "fourbar_appendix.toml")
 
 
 def _configurations(ev, n, seed):
