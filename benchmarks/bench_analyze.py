@@ -2,7 +2,7 @@
 
 Run on demand (not part of the test suite), from a checkout::
 
-    /work/venv/bin/python benchmarks/bench_analyze.py [--n 2000] [--models rrr_3 ...] [--repeat 3]
+    python benchmarks/bench_analyze.py [--n 2000] [--models rrr_3 ...] [--repeat 3]
 
 At ``--n`` valid configurations of each catalogue model (its free coordinates perturbed by
 5 % of the length scale and projected onto the closure manifold with

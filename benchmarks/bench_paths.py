@@ -1,6 +1,6 @@
 """Benchmark of path continuation (issue 4), run on demand — not a test.
 
-    /work/venv/bin/python benchmarks/bench_paths.py [--repeat R] [--steps N]
+    python benchmarks/bench_paths.py [--repeat R] [--steps N]
 
 For the appendix four-bar, the 3-RRR (``rrr_3``), the spatial RSSR (``rssr``) and the
 3-RSR of Fig. 12 (``papers_examples/fig12_3rsr_b.toml``) it measures, in one run:

@@ -1,8 +1,8 @@
 """Timings of the symbolic side (issue 3, requirement 4): run on demand, prints a table.
 
-    /work/venv/bin/python benchmarks/bench_symbolic.py            # all catalogue mechanisms
-    /work/venv/bin/python benchmarks/bench_symbolic.py rrr_3      # some of them
-    /work/venv/bin/python benchmarks/bench_symbolic.py rrr_3 --baseline 60
+    python benchmarks/bench_symbolic.py            # all catalogue mechanisms
+    python benchmarks/bench_symbolic.py rrr_3      # some of them
+    python benchmarks/bench_symbolic.py rrr_3 --baseline 60
 
 For each mechanism and coordinate set it measures, on a fresh model (no cache):
 building the symbolic G, the characteristic polynomial of the reduced G (small models),

@@ -125,6 +125,10 @@ def run(args) -> Output:
         raise SymkinError(f"{args.model}: --steps must be a positive integer")
     if args.start == args.stop:
         raise SymkinError(f"{args.model}: --from and --to are equal: nothing to trace")
+    if args.plot:
+        from symkin.plots.extra import require_matplotlib
+
+        require_matplotlib("--plot")  # before the path is traced
     bar, update = _progress_bar(not args.no_progress and not args.json)
     try:
         path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
@@ -136,10 +140,6 @@ def run(args) -> Output:
             bar.close()
     notes = []
     if args.plot:
-        import importlib.util
-
-        if importlib.util.find_spec("matplotlib") is None:
-            raise SymkinError("--plot needs matplotlib: pip install 'symkin[plots]'") from None
         from symkin.plots import save_path_figures
 
         notes.append(f"figure written to {save_path_figures(path, args.plot, unit=args.unit)}")

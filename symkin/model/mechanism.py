@@ -18,7 +18,7 @@ from typing import Iterable, Mapping
 
 from symkin.errors import ModelError, Problem
 
-__all__ = ["Slider", "Parameter", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS"]
+__all__ = ["Slider", "Parameter", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
 
 AXES = ("x", "y", "z")
 #: component names of a twist (velocity of the link's first node, then angular velocity)
@@ -202,6 +202,28 @@ def _coordinate_problems(mech: "Mechanism", rows: list) -> list:
             problems.append(Problem(f"nodes.{name}", f"coordinates must be finite, got {list(xyz)!r}"))
     return problems
 
+
+
+def length_scale(coordinates: Mapping, links: Iterable) -> float:
+    """Mean distance between the node pairs inside links (node lists); 1 when there is none.
+
+    The model's own unit of length (:mod:`symkin.tolerances`): the Mechanism's
+    ``length_scale`` and the validation of model files use this one definition.  Pairs
+    with a missing node or coordinates of different lengths are skipped (a file being
+    validated may have both).
+
+    >>> length_scale({"A": (0.0, 0.0), "B": (3.0, 4.0)}, [("A", "B")])
+    5.0
+    """
+    total, count = 0.0, 0
+    for ns in links:
+        pts = [coordinates.get(n) for n in ns]
+        for i in range(len(pts)):
+            for j in range(i + 1, len(pts)):
+                if pts[i] is not None and pts[j] is not None and len(pts[i]) == len(pts[j]):
+                    total += math.dist(pts[i], pts[j])
+                    count += 1
+    return total / count if count and total > 0 else 1.0
 
 @dataclass(frozen=True)
 class Mechanism:
@@ -393,14 +415,7 @@ class Mechanism:
     @property
     def length_scale(self) -> float:
         """Mean distance between the node pairs inside links: the model's own unit of length."""
-        xyz = self.coordinates()
-        total, count = 0.0, 0
-        for _, ns in self.links:
-            for i in range(len(ns)):
-                for j in range(i + 1, len(ns)):
-                    total += math.dist(xyz[ns[i]], xyz[ns[j]])
-                    count += 1
-        return total / count if count and total > 0 else 1.0
+        return length_scale(self.coordinates(), (ns for _, ns in self.links))
 
     def content_hash(self) -> str:
         """SHA-256 of the canonical JSON form (keys caches of generated code)."""

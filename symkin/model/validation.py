@@ -10,7 +10,7 @@ import math
 from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
-from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider
+from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider, length_scale
 from symkin.tolerances import DEFAULT
 
 __all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS", "COORDINATE_LIMIT",
@@ -150,7 +150,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     for n in {f for f in fixed if fixed.count(f) > 1}:
         out.add("fixed", f"node {n!r} listed twice")
 
-    scale = _length_scale(nodes, links)
+    scale = length_scale(nodes, links.values())
     if scale < MIN_LENGTH:
         out.add("nodes", f"the model's length scale (mean distance between the nodes of a link) is "
                          f"{scale:.3g}, below {MIN_LENGTH:g}: lengths this small underflow; use another unit")
@@ -235,18 +235,6 @@ def _parse_links(table: Any, node_set: set[str], out: _Collector) -> dict[str, t
             continue
         links[name] = ns
     return links
-
-
-def _length_scale(nodes, links) -> float:
-    total, count = 0.0, 0
-    for ns in links.values():
-        pts = [nodes.get(n) for n in ns]
-        for i in range(len(pts)):
-            for j in range(i + 1, len(pts)):
-                if pts[i] is not None and pts[j] is not None and len(pts[i]) == len(pts[j]):
-                    total += math.dist(pts[i], pts[j])
-                    count += 1
-    return total / count if count and total > 0 else 1.0
 
 
 def _check_link_geometry(nodes, links, scale, tol, out: _Collector) -> None:

@@ -65,7 +65,7 @@ code (see :mod:`symkin.numeric.codegen`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+
 
 import casadi as ca
 import numpy as np

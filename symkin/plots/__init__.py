@@ -11,7 +11,8 @@ and returns the Axes (networkx ``draw`` style):
 * :func:`plot_event_configurations` — the mechanism at each located singular event of a
   path, one small panel per event, same axes limits;
 * :func:`save_path_figures` — indicators, traces and the event panels in one PNG
-  (``symkin path ... --plot FILE.png``).
+  (``symkin path ... --plot FILE.png``);
+* :func:`~symkin.plots.extra.require_matplotlib` — the clear error when the plots extra is missing.
 """
 from symkin.plots.mechanism import draw_mechanism
 from symkin.plots.paths import plot_event_configurations, plot_indicators, plot_traces, save_path_figures
