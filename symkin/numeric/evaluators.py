@@ -66,7 +66,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-
 import casadi as ca
 import numpy as np
 
