@@ -210,7 +210,7 @@ def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances, p_hat:
     f = mech.mobility_value
     if ms.dof != f:
         return None, None
-    rows = indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank)
+    rows = indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank, nonzero=ms.effective_rows)
     js = None if rows is None else ms.J[list(rows)]
     k_in = mech.n_inputs
     out = []

@@ -158,26 +158,30 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
         js = np.asarray(js, dtype=float)
         gram = np.linalg.det(js @ np.swapaxes(js, -1, -2)) if js.shape[-2] else np.ones(lead)
         vol = np.sqrt(np.maximum(gram, np.finfo(float).tiny))  # J_S rank-deficient only at IM
-        return np.linalg.det(np.concatenate([np.broadcast_to(js, lead + js.shape[-2:]), p_hat], axis=-2)) / vol
+        if js.ndim < p_hat.ndim:  # one J_S for a stack of parameter rows
+            js = np.broadcast_to(js, lead + js.shape[-2:])
+        return np.linalg.det(np.concatenate([js, p_hat], axis=-2)) / vol
     s = np.asarray(restricted, dtype=float)
     return np.prod(s[..., : min(k, mobility)], axis=-1)
 
 
-def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances, rank: int | None = None) -> tuple[int, ...] | None:
+def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances, rank: int | None = None,
+               nonzero: np.ndarray | None = None) -> tuple[int, ...] | None:
     """The ``nf − F`` independent constraint rows ``J_S`` of ``jf`` (m, nf), or None.
 
     :func:`symkin.numeric.linalg.independent_rows` (the rule the evaluators apply once, at a
     generic configuration; here it is applied at the configuration of ``jf``: where every
     effective row is needed, as in most mechanisms, both give all of them); None when
     ``jf`` has fewer than ``nf − F`` independent rows here (an IM configuration).  A caller
-    that knows ``rank(jf)`` passes it: when it is ``nf − F`` and exactly that many rows are
-    nonzero, they are the rows (what the pivoted QR would choose), with no factorisation.
+    that knows ``rank(jf)`` passes it (and, if it has them, the indices of the nonzero
+    rows): when it is ``nf − F`` and exactly that many rows are nonzero, they are the rows
+    (what the pivoted QR would choose), with no factorisation.
     """
     count = jf.shape[1] - mobility
     if count <= 0:
         return ()
     if rank == count:
-        nonzero = np.flatnonzero(np.any(jf != 0.0, axis=1))
+        nonzero = np.flatnonzero(jf.any(axis=1)) if nonzero is None else nonzero
         if nonzero.size == count:
             return tuple(nonzero.tolist())
     rows = independent_rows(jf, tol.rank, count)

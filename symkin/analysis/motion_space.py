@@ -71,6 +71,11 @@ class MotionSpace:
         """The configuration's coordinates, (n_nodes, dim)."""
         return np.array([c for _, c in self.mechanism.nodes], dtype=float)
 
+    @cached_property
+    def effective_rows(self) -> np.ndarray:
+        """Indices of the rows of ``J`` that touch a free coordinate (not a bar between fixed nodes)."""
+        return np.flatnonzero(self.J.any(axis=1)) if self.J is not None else np.zeros(0, int)
+
     @property
     def eigenvalues(self) -> np.ndarray:
         """Eigenvalues of the reduced geometric matrix, ascending (eq. 8)."""

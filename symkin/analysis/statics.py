@@ -56,7 +56,7 @@ import numpy as np
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.analysis.relations import Relation, canonical_relations
 from symkin.model.mechanism import Mechanism
-from symkin.numeric.geometric_matrix import constraint_rows, free_mask
+from symkin.numeric.geometric_matrix import constraint_rows
 from symkin.numeric.linalg import left_null_space
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -209,14 +209,13 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
     (1, [1.0, 3.0, -4.0])
     """
     ms = motion if motion is not None else motion_space(mech, tolerances)
-    rows = constraint_rows(mech, tolerances)
-    free = free_mask(mech)
-    jf = rows.matrix[:, free]
-    touching = np.flatnonzero(np.any(jf != 0.0, axis=1))
-    rank = int(np.count_nonzero(free)) - ms.dof  # the motion space's own rank decision
+    jf = ms.J  # the reduced constraint rows the motion space was computed from
+    touching = ms.effective_rows
+    rank = ms.rank  # the motion space's own rank decision
     count = touching.size - rank
     if count <= 0:  # the common case: no stress at all, nothing more to compute
         return Statics(0, (), 0)
+    rows = constraint_rows(mech, tolerances)  # for the owners of the rows
     jr = jf[touching]
     owners = tuple(rows.owners[r] for r in touching)
     labels = constraint_labels(mech, rows.owners)
