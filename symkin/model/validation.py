@@ -31,6 +31,10 @@ COORDINATE_LIMIT = 1e100
 #: A model outside these bounds is rejected with a message suggesting another unit; inside
 #: them the analysis is scale invariant (a model and the same model scaled give one answer).
 MIN_LENGTH = 1e-100
+#: sine of the angle below which two directions of a model (a rotation axis, a rod) count as
+#: parallel: the nodes of a file are typed or computed to about 1e-12 of the length scale, so
+#: 1e-9 accepts rounding and nothing a user would draw on purpose
+_ALIGNED = 1e-9
 
 
 class _Collector:
@@ -507,7 +511,7 @@ def _is_rod(link, ctx) -> bool:
     for p in pts:
         w = [b - a for a, b in zip(pts[0], p)]
         along = sum(x * y for x, y in zip(w, d)) / length
-        if sum(x * x for x in w) - along * along > (1e-9 * length) ** 2:
+        if sum(x * x for x in w) - along * along > (_ALIGNED * length) ** 2:
             return False
     return True
 
@@ -515,4 +519,4 @@ def _is_rod(link, ctx) -> bool:
 def _parallel(a, b) -> bool:
     cross = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
     na, nb = math.sqrt(sum(v * v for v in a)), math.sqrt(sum(v * v for v in b))
-    return math.sqrt(sum(v * v for v in cross)) <= 1e-9 * na * nb
+    return math.sqrt(sum(v * v for v in cross)) <= _ALIGNED * na * nb

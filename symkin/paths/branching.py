@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from symkin.paths.continuation import CurveProblem
+from symkin.tolerances import DEFAULT
 
 __all__ = ["Bifurcation", "branch_directions", "second_derivative"]
 
@@ -50,9 +51,15 @@ def second_derivative(problem: CurveProblem, y: np.ndarray, v: np.ndarray, eps: 
     return (problem.jacobian(y + eps * v) - problem.jacobian(y - eps * v)) @ v / (2 * eps)
 
 
-def branch_directions(problem: CurveProblem, y: np.ndarray, rank_tol: float = 1e-7,
+def branch_directions(problem: CurveProblem, y: np.ndarray, rank_tol: float | None = None,
                       degenerate_tol: float = 1e-6) -> Bifurcation:
-    """Tangent directions of the branches through ``y`` (see module docstring)."""
+    """Tangent directions of the branches through ``y`` (see module docstring).
+
+    ``rank_tol`` (relative to the largest singular value) defaults to the path events'
+    threshold, :attr:`Tolerances.event_threshold <symkin.tolerances.Tolerances.event_threshold>`.
+    """
+    if rank_tol is None:
+        rank_tol = DEFAULT.event_threshold
     j = problem.jacobian(y)
     n = j.shape[1]
     _, s, vt = np.linalg.svd(j, full_matrices=True)

@@ -32,7 +32,7 @@ class TestFunction:
     name: str
     f: Callable[[np.ndarray, np.ndarray], float]
     signed: bool = True
-    threshold: float = 1e-6  # for non-negative functions: a minimum below this is an event
+    threshold: float = 1e-6  # non-negative functions: a minimum below this is an event (trace sets it from Tolerances)
 
 
 @dataclass(frozen=True)

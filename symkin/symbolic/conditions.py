@@ -51,6 +51,7 @@ from sympy.polys.polyerrors import CoercionFailed
 from sympy.polys.rings import ring
 
 from symkin.errors import SymkinError
+from symkin.tolerances import DEFAULT
 from symkin.symbolic.rows import SymRow
 
 __all__ = ["Factor", "Condition", "DerivationTimeout", "im_condition", "dkp_condition", "MAX_MINORS",
@@ -1422,7 +1423,7 @@ def _independent_rows(sm, rows: list[SymRow]) -> list[SymRow]:
         if m.shape[0] == 0:
             return 0
         sv = np.linalg.svd(m, compute_uv=False)
-        return int(np.count_nonzero(sv > 1e-9 * max(sv[0], 1e-300)))
+        return int(np.count_nonzero(sv > DEFAULT.rank * max(sv[0], 1e-300)))
 
     free = np.array([c in set(sm.free) for c in range(ncoord)])
     mine = {id(r) for r in rows}
