@@ -5,7 +5,7 @@ builds the map's position problem (:mod:`symkin.workspace.system`), the modes
 (:mod:`symkin.workspace.modes`), continues each mode over the grid and evaluates the
 indicators of the one analysis core on it (:mod:`symkin.workspace.grid`) and, with
 ``refine=True``, refines to exact curves with :func:`symkin.workspace.loci.refine`
-``(system.locus_view(), GridData, mode_id, tolerances) -> (curves, points, stats)`` when
+``(system, GridData, mode_id, tolerances) -> (curves, points, stats)`` when
 that module is installed (otherwise the map says so in :attr:`WorkspaceMap.notes`).
 
 :meth:`WorkspaceMap.to_dict` is the ``symkin map --json`` object::
@@ -243,7 +243,7 @@ def _refine(system, grid: ModeGrid, mode_id: int, xs, ys, tol: Tolerances):
     data = loci.GridData(xs=xs, ys=ys, assembled=grid.assembled, dkp_input=grid.dkp_input,
                          dkp_output=grid.dkp_output, im_indicator=grid.im_indicator, q=grid.q,
                          configuration=grid.config)
-    out = loci.refine(system.locus_view(), data, mode_id, tol)
+    out = loci.refine(system, data, mode_id, tol)
     curves, points = out[0], out[1]
     return ([MapCurve(c.kind, mode_id, bool(c.closed), np.asarray(c.points, float)) for c in curves],
             [MapPoint(p.kind, mode_id, tuple(float(v) for v in p.at), tuple(p.types)) for p in points])

@@ -220,8 +220,6 @@ class MapSystem:
             "holds": ca.Function("map_holds", [q], [c], ["q"], ["c"]),
         }
         self._maps: dict = {}
-        self._sx = {"q": q, "constraints": ca.substitute(cons, h, ca.DM(self.hold_values)) if self.holds else cons,
-                    "axes": a}
         self._check_independent()
 
     # ------------------------------------------------------------------ set-up
@@ -261,22 +259,6 @@ class MapSystem:
         jac = np.array(self.functions["square"](q, target)[1])
         rows = independent_rows(jac, self.tolerances.rank)
         return len(rows) == self.nf
-
-    def locus_view(self):
-        """What :func:`symkin.workspace.loci.refine` takes as its ``system`` (SX expressions, user units).
-
-        ``evaluators``; ``q`` (SX, nf); ``constraints`` (SX, nf − 2: ``Φ_S/ℓ`` and the held
-        coordinates at :attr:`hold_values`, dimensionless); ``axes`` (SX, 2: axis values in
-        the user's unit); ``axis_scale`` (axis values per dimensionless unit: ``ℓ`` for a
-        length, one radian in the user's unit for an angle).
-        """
-        from types import SimpleNamespace
-
-        f = self._factors(self.axes)
-        return SimpleNamespace(evaluators=self.evaluators, q=self._sx["q"], constraints=self._sx["constraints"],
-                               axes=self._sx["axes"] / ca.DM(f),
-                               axis_scale=tuple(float(c.scale(self.mech.length_scale) / k)
-                                                for c, k in zip(self.axes, f)))
 
     # ------------------------------------------------------------------ sizes and units
     @property
