@@ -188,11 +188,17 @@ class SingularPoint:
 
 @dataclass
 class RefineStats:
-    """What refinement cost: brackets seen, located points, skipped duplicates, evaluations."""
+    """What refinement cost: brackets seen, located points, skipped duplicates, evaluations.
+
+    ``located`` crossings and folds located on the grid, ``seeded`` interior curves started
+    from meeting points on boundary curves, ``duplicates`` brackets or seeds that lay on a
+    curve already traced; ``*_evaluations`` count residual-and-Jacobian evaluations.
+    """
 
     crossings: int = 0
     folds: int = 0
     located: int = 0
+    seeded: int = 0
     duplicates: int = 0
     failed: int = 0
     locate_evaluations: int = 0
@@ -394,19 +400,28 @@ class _Half:
     ys: list
     end: str
     end_y: np.ndarray | None = None
+    meetings: list = field(default_factory=list)
 
 
 def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: np.ndarray,
-                settings: Settings, tol: Tolerances, start: CurvePoint) -> _Half:
-    """Continue from ``y0`` along ``t0`` until closed / box / boundary / IM / stalled."""
+                settings: Settings, tol: Tolerances, start: CurvePoint, boundary: tuple[str, float]) -> _Half:
+    """Continue from ``y0`` along ``t0`` until closed / box / boundary / branch / IM / stalled.
+
+    ``boundary = (kind_b, sign_b)``: the test function whose zero set is the mode's
+    workspace boundary and its sign inside the mode.  An interior curve (``kind ≠ kind_b``)
+    stops where ``T_b`` leaves ``sign_b``; along a boundary curve the sign changes of the
+    interior test function are *meeting points* (located, returned in ``meetings``: an
+    interior curve starts there).
+    """
     problem = pb.curve(kind)
-    other = _OTHER[kind]
+    kind_b, sign_b = boundary
+    interior = _OTHER[kind_b]
     out = [np.array(y0, float)]
     prev = None
-    end, end_y = "steps", None
-    sign0 = math.copysign(1.0, pb.tests(y0)[other])
+    end, end_y, meetings = "steps", None, []
     branch = TestFunction("branch", lambda yy, tt: _branch_test(problem, yy, tt))
     b_prev = branch.f(y0, t0)
+    i_prev = pb.tests(y0)[interior]
     try:
         for point in continue_curve(problem, y0, t0, settings):
             if prev is None:
@@ -423,10 +438,10 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 out.append(point.y)
                 break
             b_now = branch.f(point.y, point.t)
-            crossed = kind == "DKP-input" and math.copysign(1.0, t[other]) != sign0
+            crossed = kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b
             branched = b_now * b_prev < 0
             if crossed or branched:
-                test = TestFunction(other, lambda yy, tt: pb.tests(yy)[other]) if crossed else branch
+                test = TestFunction(kind_b, lambda yy, tt: pb.tests(yy)[kind_b]) if crossed else branch
                 end = "boundary" if crossed else "branch"
                 try:
                     end_y = locate_sign_change(problem, test, prev, point).y
@@ -434,7 +449,13 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                     end_y = prev.y
                 out.append(end_y)
                 break
-            b_prev = b_now
+            if kind == kind_b and t[interior] * i_prev < 0:
+                test = TestFunction(interior, lambda yy, tt: pb.tests(yy)[interior])
+                try:
+                    meetings.append(locate_sign_change(problem, test, prev, point).y)
+                except NotConvergedError:
+                    pass
+            b_prev, i_prev = b_now, t[interior]
             if point.s > 3 * settings.max_step and float(point.t @ start.t) > 0.5 and \
                     _segment_distance(start.y, prev.y, point.y) <= 0.25 * float(np.linalg.norm(point.y - prev.y)):
                 end = "closed"
@@ -443,7 +464,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
             prev = point
     except SteppingError:
         end = "stalled"
-    return _Half(out, end, end_y)
+    return _Half(out, end, end_y, meetings)
 
 
 def _branch_test(problem: _Curve, y: np.ndarray, t: np.ndarray) -> float:
@@ -485,18 +506,43 @@ def _onto_box(pb: _Problems, problem: _Curve, y_in: np.ndarray, y_out: np.ndarra
 
 
 def trace_locus(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray, settings: Settings,
-                tol: Tolerances = DEFAULT) -> tuple[np.ndarray, bool, tuple[str, ...], list]:
-    """Trace the locus ``kind`` through ``y0`` both ways; ``(ys, closed, ends, end points)``."""
+                tol: Tolerances = DEFAULT, boundary: tuple[str, float] = ("DKP-output", 1.0)
+                ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list]:
+    """Trace the locus ``kind`` through ``y0`` both ways.
+
+    Returns ``(ys, closed, ends, end points, meeting points)`` in ``y = q/ℓ`` (see
+    :func:`_trace_half` for ``boundary``).
+    """
     problem = pb.curve(kind)
     t0 = tangent(problem, y0)
     start = CurvePoint(np.array(y0, float), t0, 0.0)
-    fwd = _trace_half(pb, kind, y0, t0, box, settings, tol, start)
+    fwd = _trace_half(pb, kind, y0, t0, box, settings, tol, start, boundary)
     if fwd.end == "closed":
-        return np.array(fwd.ys), True, ("closed",), []
-    bwd = _trace_half(pb, kind, y0, -t0, box, settings, tol, CurvePoint(start.y, -t0, 0.0))
+        return np.array(fwd.ys), True, ("closed",), [], fwd.meetings
+    bwd = _trace_half(pb, kind, y0, -t0, box, settings, tol, CurvePoint(start.y, -t0, 0.0), boundary)
     ys = np.array(bwd.ys[:0:-1] + fwd.ys)
     ends = (bwd.end, fwd.end)
-    return ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None]
+    return ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None], bwd.meetings + fwd.meetings
+
+
+def _boundary(grid: GridData, signs: list) -> tuple[str, float]:
+    """The test function whose zero set bounds the mode (no sign change on the grid) and its sign there.
+
+    In a workspace map the square problem is singular exactly where ``DKP-output``
+    vanishes, so that function keeps one sign over a mode and the mode ends where it
+    vanishes (a fold); in a joint-space map the same holds for ``DKP-input``.  When
+    neither changes sign on the grid, ``DKP-output`` (a workspace map) is assumed.
+    """
+    changing = {k for k, _, _ in signs}
+    asm = np.asarray(grid.assembled, bool)
+    for kind in ("DKP-output", "DKP-input"):
+        if kind in changing:
+            continue
+        v = np.asarray(getattr(grid, KINDS[kind]), float)[asm]
+        v = v[np.isfinite(v)]
+        if v.size:
+            return kind, float(np.sign(np.median(v))) or 1.0
+    return "DKP-output", 1.0
 
 
 # ---------------------------------------------------------------------- refine
@@ -573,7 +619,9 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
 
     def take(kind, y):
         before = pb.counter.n
-        ys, closed, ends, end_ys = trace_locus(pb, kind, y, box_d, settings, tol)
+        ys, closed, ends, end_ys, meets = trace_locus(pb, kind, y, box_d, settings, tol, boundary)
+        seeds.extend(meets)
+        end_ys = end_ys + meets
         stats.trace_evaluations += pb.counter.n - before
         stats.traced_points += len(ys)
         ax = np.array([pb.axes(v) for v in ys])
@@ -586,6 +634,8 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
 
     signs, folds = _brackets(grid)
     stats.crossings, stats.folds = len(signs), len(folds)
+    boundary = _boundary(grid, signs)
+    seeds: list = []  # meeting points found along boundary curves: interior curves start there
     for kind, pa, pb_ in signs:
         qa, qb = grid.config(*pa), grid.config(*pb_)
         if qa is None or qb is None:
@@ -626,6 +676,14 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             stats.duplicates += 1
             continue
         take(kind, y)
+    interior = _OTHER[boundary[0]]
+    while seeds:
+        y = seeds.pop(0)
+        if on_traced(interior, y, 0.5 * settings.max_step):
+            stats.duplicates += 1
+            continue
+        stats.seeded += 1
+        take(interior, y)
     return curves, points, stats
 
 
