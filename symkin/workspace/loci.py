@@ -13,15 +13,17 @@ Contract with the map engine
 ----------------------------
 :func:`refine` ``(system, grid, mode, tolerances, box)`` returns ``(curves, points, stats)``.
 
-``system`` (:class:`LocusSystem`, see :meth:`LocusSystem.of`)
-    ``evaluators`` (:func:`symkin.analysis.batch.evaluators_for` of the mechanism), an SX
-    symbol ``q`` of the ``nf`` free coordinates, ``constraints`` (SX, dimensionless: the
-    closure ``Φ/ℓ`` and the held coordinates, ``nf − 2`` independent rows), ``axes`` (SX,
-    2 rows, in *axis values*: model units or the map's angle unit) and ``axis_scale``
-    (axis values per dimensionless unit: ``ℓ`` for a length axis, one radian in the
-    map's unit for an angle), ``ℓ`` the model's length scale.
+``system``
+    the map's :class:`symkin.workspace.system.MapSystem` (its ``constraints`` and ``axes``
+    Functions, ``hold_values``, ``evaluators``), or a :class:`LocusSystem` built from it
+    (:meth:`LocusSystem.of`): an SX symbol ``q`` of the ``nf`` free coordinates,
+    ``constraints`` (SX, dimensionless: ``Φ_S/ℓ`` and the held coordinates, ``nf − 2``
+    rows), ``axes`` (SX, 2 rows, in *axis values*: the user's unit, model lengths or
+    degrees / radians as the map's ``unit``) and ``axis_scale`` (axis values per
+    dimensionless unit: ``ℓ`` for a length axis, one radian in the user's unit for an
+    angle), ``ℓ`` the model's length scale.
 ``grid`` (:class:`GridData`)
-    ``xs`` (nx,), ``ys`` (ny,) axis values; arrays of shape ``(ny, nx)`` indexed
+    ``xs`` (nx,), ``ys`` (ny,) axis values in the user's unit (as ``axes``); arrays of shape ``(ny, nx)`` indexed
     ``[j, i]`` ↔ ``(xs[i], ys[j])``: ``assembled`` (bool), ``dkp_input``, ``dkp_output``,
     ``im_indicator`` and ``trace`` (NaN where not assembled), and ``q`` (``(ny, nx, nf)``)
     or a callable ``configuration(j, i) -> q | None`` when configurations are not stored.
@@ -112,15 +114,28 @@ class LocusSystem:
 
     @classmethod
     def of(cls, system: Any) -> "LocusSystem":
-        """Adapt a map position problem: a :class:`LocusSystem`, or any object with the same attributes."""
+        """The locus problem of a map position problem (a :class:`symkin.workspace.system.MapSystem`).
+
+        ``constraints`` are the system's ``constraints`` Function (closure rows ``Φ_S/ℓ`` and
+        the held coordinates at ``hold_values``), ``axes`` its ``axes`` Function converted to
+        the user's unit (:meth:`MapSystem.to_user`: model lengths, degrees or radians), and
+        ``axis_scale`` is ``ℓ`` for a length axis and one radian in the user's unit for an
+        angle.  A :class:`LocusSystem` is returned as it is.
+        """
         if isinstance(system, LocusSystem):
             return system
         try:
-            return cls(system.evaluators, system.q, system.constraints, system.axes,
-                       tuple(float(v) for v in system.axis_scale))
-        except AttributeError as exc:
-            raise SymkinError(f"refinement needs a map position problem with evaluators, q, constraints, "
-                              f"axes and axis_scale ({exc})") from None
+            fn, ev = system.functions, system.evaluators
+            q = ca.SX.sym("q", ev.nf)
+            cons = fn["constraints"](q, ca.DM(np.asarray(system.hold_values, float)))[0]
+            factors = np.asarray(system.to_user(np.ones(2)), float)  # user units per internal unit
+            axes = fn["axes"](q)[0] * ca.DM(factors)
+            ell = float(ev.mech.length_scale)
+            scale = tuple(ell if c.kind == "length" else float(f) for c, f in zip(system.axes, factors))
+        except (AttributeError, KeyError, TypeError) as exc:
+            raise SymkinError(f"refinement needs a map position problem (symkin.workspace.system.MapSystem), "
+                              f"got {type(system).__name__} ({exc})") from None
+        return cls(ev, q, cons, axes, scale)
 
 
 @dataclass(frozen=True, eq=False)

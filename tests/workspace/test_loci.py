@@ -1,32 +1,21 @@
 """Refinement to exact curves (symkin.workspace.loci) against closed forms of the five-bar."""
 from __future__ import annotations
 
-import casadi as ca
 import numpy as np
 import pytest
 
-from symkin.analysis.batch import evaluators_for
 from symkin.model.catalogue import data
 from symkin.model.mechanism import Mechanism
 from scipy.optimize import brentq
 from symkin.workspace.loci import GridData, LocusSystem, refine
+from symkin.workspace.system import map_system
 
 L1, L2 = 1.0, 2.0  # catalogue five_bar: |A_i B_i| = 1, |B_i P| = 2
 A = np.array([[-1.0, 0.0], [1.0, 0.0]])
 
 
-def _system(mech, nodes_axes):
-    """A map system whose axes are absolute node coordinates (test scaffolding, no holds)."""
-    ev = evaluators_for(mech)
-    m = ev.model
-    q = ca.SX.sym("q", m.q.numel())
-    phi = ca.substitute(m.closure, m.q, q)
-    if m.p.numel():
-        phi = ca.substitute(phi, m.p, ca.DM(m.p0))
-    live = [k for k in range(phi.numel()) if ca.depends_on(phi[k], q)]
-    ell = mech.length_scale
-    axes = ca.vertcat(*[q[ev.q_labels.index(lab)] for lab in nodes_axes])
-    return LocusSystem(ev, q, phi[live] / ell, axes, (ell, ell))
+def _system(mech, nodes_axes=("P",)):
+    return map_system(mech, f"velocity:{nodes_axes[0]}.x", f"velocity:{nodes_axes[0]}.y")
 
 
 def _ik(p, signs, a=A, l1=L1, l2=L2):
@@ -91,7 +80,7 @@ def _five_bar(l1=G1, l2=G2, scale=1.0):
 
 
 def _refined(mech, signs, scale=1.0, l1=G1, l2=G2):
-    sys_ = _system(mech, ("x_P", "y_P"))
+    sys_ = _system(mech)
     grid = _grid(sys_.evaluators, scale * XS, scale * YS, signs, scale * A, scale * l1, scale * l2)
     return (sys_, grid) + tuple(refine(sys_, grid, mode=str(signs)))
 
