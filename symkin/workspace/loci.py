@@ -458,9 +458,12 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
             if crossed or branched:
                 test = TestFunction(kind_b, lambda yy, tt: pb.tests(yy)[kind_b]) if crossed else branch
                 end = "boundary" if crossed else "branch"
+                if crossed and pb.tests(prev.y)[kind_b] * sign_b <= 0:
+                    end_y = prev.y  # started on the boundary and left the mode at once: nothing to add
+                    break
                 try:
                     end_y = locate_sign_change(problem, test, prev, point).y
-                except NotConvergedError:
+                except (NotConvergedError, ValueError):
                     end_y = prev.y
                 out.append(end_y)
                 break
@@ -468,7 +471,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 test = TestFunction(interior, lambda yy, tt: pb.tests(yy)[interior])
                 try:
                     meetings.append(locate_sign_change(problem, test, prev, point).y)
-                except NotConvergedError:
+                except (NotConvergedError, ValueError):
                     pass
             b_prev, i_prev = b_now, t[interior]
             if point.s > 3 * settings.max_step and float(point.t @ start.t) > 0.5 and \

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from symkin.model.catalogue import data
+from symkin.model.catalogue import data, get
 from symkin.model.mechanism import Mechanism
 from scipy.optimize import brentq
 from symkin.workspace.loci import GridData, LocusSystem, refine
@@ -19,9 +19,9 @@ def _system(mech, nodes_axes=("P",)):
 
 
 def _ik(p, signs, a=A, l1=L1, l2=L2):
-    """Elbows B_i of a five-bar with end-effector p (closed form), or None when a leg does not reach."""
+    """Elbows B_i of RR legs from A_i to p (closed form), or None when a leg does not reach."""
     out = []
-    for k in range(2):
+    for k in range(len(signs)):
         d = p - a[k]
         r = np.linalg.norm(d)
         if not abs(l1 - l2) < r < l1 + l2:
@@ -201,3 +201,106 @@ def test_scale_invariance_mm_and_m():
     for c in cb:
         same = [d for d in ca_ if d.kind == c.kind]
         assert max(_near_any(p / 1000.0, same) for p in c.points) <= 1e-9
+
+
+# ---------------------------------------------------------------------- 3-RRR at constant orientation
+R_BASE, R_PF, R1, R2, PHI = 4.0, 1.0, 2.0, 2.5, 0.1  # catalogue rrr_3 (platform angle 0.1)
+ANG = [2 * np.pi * k / 3 + np.pi / 2 for k in range(3)]
+A3 = np.array([[R_BASE * np.cos(a), R_BASE * np.sin(a)] for a in ANG])
+OFF = np.array([[R_PF * np.cos(a + PHI), R_PF * np.sin(a + PHI)] for a in ANG])
+X3, Y3 = np.linspace(-3.0, 3.0, 31), np.linspace(-2.5, 3.5, 31)
+CELL3 = 0.2
+#: a working mode whose workspace contains type-2 loci at this orientation (the model's, (1, 1, 1), has none)
+MODE3 = (1, 1, -1)
+
+
+def _rrr_nodes(c1, signs):
+    """Elbows B_k and platform joints C_k of the 3-RRR with C1 at ``c1`` and the model's orientation."""
+    c = c1 + OFF - OFF[0]
+    out = []
+    for k in range(3):
+        b = _ik(c[k], (signs[k],), A3[k:k + 1], R1, R2)
+        if b is None:
+            return None
+        out.append(b[0])
+    return np.array(out), c
+
+
+def _rrr_grid(ev, signs):
+    nx, ny = len(X3), len(Y3)
+    q = np.full((ny, nx, ev.nf), np.nan)
+    asm = np.zeros((ny, nx), bool)
+    for j, y in enumerate(Y3):
+        for i, x in enumerate(X3):
+            r = _rrr_nodes(np.array([x, y]), signs)
+            if r is None:
+                continue
+            b, c = r
+            vals = {}
+            for k in range(3):
+                vals.update({f"x_B{k + 1}": b[k, 0], f"y_B{k + 1}": b[k, 1], f"x_C{k + 1}": c[k, 0],
+                             f"y_C{k + 1}": c[k, 1]})
+            q[j, i] = [vals[lab] for lab in ev.q_labels]
+            asm[j, i] = True
+    res = ev.batch(q[asm])
+    arrays = {}
+    for key in ("dkp_input", "dkp_output", "im_indicator"):
+        full = np.full((ny, nx), np.nan)
+        full[asm] = getattr(res, key)
+        arrays[key] = full
+    return GridData(X3, Y3, asm, q=q, **arrays)
+
+
+def _plucker_det(b, c):
+    """det of the planar Plücker coordinates (d_x, d_y, m) of the three distal lines B_k C_k, normalised."""
+    d = c - b
+    m = b[..., 0] * d[..., 1] - b[..., 1] * d[..., 0]
+    rows = np.stack([d[..., 0], d[..., 1], m / R_BASE], axis=-1)
+    return np.linalg.det(rows) / np.prod(np.linalg.norm(rows, axis=-1), axis=-1)
+
+
+@pytest.fixture(scope="module")
+def rrr_map():
+    mech = get("rrr_3")
+    sys_ = map_system(mech, "velocity:C1.x", "velocity:C1.y", hold=["rotation:platform"])
+    grid = _rrr_grid(sys_.evaluators, MODE3)
+    return (sys_, grid) + tuple(refine(sys_, grid, mode=str(MODE3)))
+
+
+@pytest.mark.slow
+def test_rrr_constant_orientation_loci(rrr_map):
+    """3-RRR, platform orientation held: type-2 where the distal lines are concurrent (Plücker det = 0), type-1
+    where a leg is stretched or folded; every traced point to 1e-9, every closed-form type-2 point near a curve."""
+    sys_, grid, curves, points, stats = rrr_map
+    ev = sys_.evaluators
+    inp = [c for c in curves if c.kind == "DKP-input"]
+    out = [c for c in curves if c.kind == "DKP-output"]
+    assert inp and out
+    for c in curves:
+        b = np.stack([_nodes(ev, c.configurations, f"B{k}") for k in (1, 2, 3)], axis=1)
+        cc = np.stack([_nodes(ev, c.configurations, f"C{k}") for k in (1, 2, 3)], axis=1)
+        # closure and the held orientation, from the configuration
+        assert np.abs(np.linalg.norm(b - A3[None], axis=2) - R1).max() <= 1e-9 * R1
+        assert np.abs(np.linalg.norm(cc - b, axis=2) - R2).max() <= 1e-9 * R1
+        assert np.abs(cc - cc[:, :1] - (OFF - OFF[0])[None]).max() <= 1e-9
+        if c.kind == "DKP-input":
+            assert np.abs(_plucker_det(b, cc)).max() <= 1e-9
+        else:
+            reach = np.linalg.norm(cc - A3[None], axis=2)  # (N, leg)
+            err = np.min(np.abs(reach[:, :, None] - np.array([R1 + R2, R2 - R1])[None, None]), axis=(1, 2))
+            assert err.max() <= 1e-9 * R1
+    # closed-form type-2 points (sign changes of the Plücker determinant along fine rows)
+    samples = []
+    for y in np.linspace(Y3[0], Y3[-1], 31)[1:-1]:
+        xs = np.linspace(X3[0], X3[-1], 201)
+        vals = []
+        for x in xs:
+            r = _rrr_nodes(np.array([x, y]), MODE3)
+            vals.append(np.nan if r is None else _plucker_det(*r))
+        vals = np.array(vals)
+        for k in np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) < 0):
+            f = lambda x: _plucker_det(*_rrr_nodes(np.array([x, y]), MODE3))
+            samples.append([brentq(f, xs[k], xs[k + 1], xtol=1e-12), y])
+    assert samples
+    far = [p for p in samples if _near_any(np.array(p), inp) > 2 * CELL3]
+    assert not far, far[:3]
