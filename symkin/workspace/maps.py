@@ -304,7 +304,7 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     mode_maps: list[ModeMap] = []
     grids: list[ModeGrid] = []
     for label, q in seeds_q:
-        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations or refine,
+        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations,
                           progress=progress)
         dup = next((k for k, h in enumerate(grids) if _same_mode(h, g)), None)
         if dup is not None:
