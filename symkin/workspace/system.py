@@ -88,6 +88,8 @@ UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 NEWTON_TOL = 1e-11
 #: Newton iterations before a grid point counts as not reached
 NEWTON_ITER = 12
+#: from this iteration on, a Newton iterate whose residual grows is given up (it diverges)
+DIVERGE_AFTER = 3
 #: largest number of points per mapped call
 _CHUNK = 2048
 
@@ -361,8 +363,9 @@ class MapSystem:
         tol : float
             Converged when the dimensionless residual ``max |S| <= tol``.
         max_iter : int
-            Newton iterations at most; a point not converged by then, or whose step is not
-            finite (singular position problem), is reported as not converged.
+            Newton iterations at most; a point not converged by then, whose step is not
+            finite (singular position problem) or whose residual grows from iteration
+            :data:`DIVERGE_AFTER` on, is reported as not converged.
 
         Returns
         -------
@@ -383,11 +386,13 @@ class MapSystem:
                 break
             s, jac = self.evaluate("square", q[active], t[active])
             err = np.max(np.abs(s), axis=1) if s.size else np.zeros(active.size)
+            before = residual[active]
             residual[active] = err
             done = err <= tol
             converged[active[done]] = True
             iterations[active[done]] = it
-            keep = ~done & np.isfinite(err)
+            # a residual that grows after the first steps: Newton diverges (no solution near), stop it
+            keep = ~done & np.isfinite(err) & ((it < DIVERGE_AFTER) | (err < before))
             active, s, jac = active[keep], s[keep], jac[keep]
             if active.size == 0 or it == max_iter:
                 break
