@@ -90,6 +90,7 @@ def test_workspace_dkp_input_sign_changes_are_the_aligned_distal_links():
     x = np.full((n, n, 5, 2), np.nan)
     x[g.assembled] = np.array([s.evaluators.coordinates(q) for q in g.q[g.assembled]])
     type2 = _cross(x[..., 4, :] - x[..., 2, :], x[..., 4, :] - x[..., 3, :])
+    assert (np.diff(np.sign(g.dkp_input), axis=1) != 0).sum() > 10  # the type-2 loci cross this box
     for axis in (0, 1):
         both = np.isfinite(np.diff(g.dkp_input, axis=axis)) & np.isfinite(np.diff(type2, axis=axis))
         assert np.array_equal((np.diff(np.sign(g.dkp_input), axis=axis) != 0) & both,
