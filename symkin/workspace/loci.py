@@ -48,11 +48,17 @@ Algorithm
    *closes* (passes its start again in the same direction), *leaves the box* (the last
    point is solved onto the box edge), *meets the workspace boundary* of the mode (the
    other DKP test function changes sign: located by
-   :func:`symkin.paths.events.locate_sign_change`), nears an IM configuration (relative
-   ``σ_{F+1}`` below :attr:`Tolerances.near_branch`, where ``T`` is not defined) or
+   :func:`symkin.paths.events.locate_sign_change`), meets another locus at a branch point
+   (``det[H'; tᵀ]`` changes sign), nears an IM configuration (the relative IM indicator
+   ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points
+   (:func:`symkin.paths.events.locate_minimum`), below :attr:`Tolerances.near_branch`:
+   ``T`` is not defined at IM; the IM configuration is then refined as in step 4) or
    cannot be continued.  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
-4. **Points** — where a curve ends on the mode boundary or near IM, the end
+4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
+   :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
+   the constraints lose rank; the core decides whether it is IM (it is then reported).
+5. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
    when it has two or more types, else its type).
@@ -76,7 +82,7 @@ from symkin.analysis.batch import Evaluators, evaluators_for
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.numeric.evaluators import INDICATOR_NAMES
 from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
-from symkin.paths.events import TestFunction, locate_sign_change
+from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
@@ -214,6 +220,7 @@ class RefineStats:
     folds: int = 0
     located: int = 0
     seeded: int = 0
+    im_candidates: int = 0
     duplicates: int = 0
     failed: int = 0
     locate_evaluations: int = 0
@@ -257,6 +264,7 @@ class _Problems:
         self._tests = ca.Function("tests", [y], [tests["DKP-input"], tests["DKP-output"], rel_im])
         self._curve = {k: ca.Function(f"locus_{KINDS[k]}", [y], [ca.vertcat(g, t), ca.jacobian(ca.vertcat(g, t), y)])
                        for k, t in tests.items()}
+        self._constraints = ca.Function("constraints", [y], [g, ca.jacobian(g, y)])
         target = ca.SX.sym("target", 2)
         sq = ca.vertcat(g, ax - target)
         self._square = ca.Function("square", [y, target], [sq, ca.jacobian(sq, y)])
@@ -278,6 +286,10 @@ class _Problems:
 
     def curve(self, kind: str) -> "_Curve":
         return _Curve(self._curve[kind], self.counter)
+
+    def constraints(self) -> "_Fn":
+        """The 2-D solution surface ``(Φ_S/ℓ, holds)(y) = 0`` (axes free)."""
+        return _Fn(self._constraints, self.counter)
 
     def solve_square(self, target: np.ndarray, y0: np.ndarray) -> np.ndarray:
         """Free coordinates ``y`` at dimensionless axis values ``target`` (Newton from ``y0``)."""
@@ -390,6 +402,36 @@ def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray
     return kind, y, s
 
 
+def _im_candidates(grid: GridData) -> list[tuple[int, int]]:
+    """Grid nodes whose IM indicator is below all eight assembled neighbours (a minimum to refine)."""
+    if grid.im_indicator is None:
+        return []
+    im = np.asarray(grid.im_indicator, float)
+    asm = np.asarray(grid.assembled, bool) & np.isfinite(im)
+    ny, nx = im.shape
+    out = []
+    for j in range(1, ny - 1):
+        for i in range(1, nx - 1):
+            block, ok = im[j - 1:j + 2, i - 1:i + 2], asm[j - 1:j + 2, i - 1:i + 2]
+            if ok.all() and np.count_nonzero(block <= im[j, i]) == 1:
+                out.append((j, i))
+    return out
+
+
+def locate_im(pb: _Problems, y0: np.ndarray) -> np.ndarray | None:
+    """An IM configuration near ``y0``: where the surface ``(Φ_S/ℓ, holds) = 0`` loses rank.
+
+    :func:`symkin.paths.events.refine_rank_drop` (Gauss–Newton on the constraints, a left
+    null vector ``ψ`` of their Jacobian and its normalisation) from the grid configuration
+    of an IM-indicator minimum; None when it does not converge.  The caller asks the core
+    whether the configuration is IM.
+    """
+    y, ok = refine_rank_drop(pb.constraints(), y0, 1)
+    if not ok or not np.all(np.isfinite(y)):
+        return None
+    return y
+
+
 # ---------------------------------------------------------------------- tracing
 def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     ab = b - a
@@ -437,6 +479,8 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
     branch = TestFunction("branch", lambda yy, tt: _branch_test(problem, yy, tt))
     b_prev = branch.f(y0, t0)
     i_prev = pb.tests(y0)[interior]
+    im_test = TestFunction("im", lambda yy, tt: pb.tests(yy)["im"], signed=False, threshold=tol.near_branch)
+    pprev, r_pprev, r_prev = None, math.inf, pb.tests(y0)["im"]
     try:
         for point in continue_curve(problem, y0, t0, settings):
             if prev is None:
@@ -449,9 +493,24 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 end = "box"
                 break
             if t["im"] < tol.near_branch or not all(math.isfinite(t[k]) for k in KINDS):
+                # T is not defined at IM: the curve ends here; the IM configuration is refined
                 end, end_y = "IM", point.y
                 out.append(point.y)
+                exact = locate_im(pb, point.y)
+                if exact is not None:
+                    end_y = exact
                 break
+            if pprev is not None and r_prev < r_pprev and r_prev < t["im"] and r_prev <= settings.max_step:
+                # a local minimum of the relative IM indicator σ_{F+1}, within about a step of zero (it changes
+                # by about the step over a step): an IM point where loci meet?
+                ev_im = locate_minimum(problem, im_test, pprev, prev, point)
+                if ev_im is not None:
+                    end, end_y = "IM", ev_im.y
+                    out.append(ev_im.y)
+                    exact = locate_im(pb, ev_im.y)
+                    if exact is not None:
+                        end_y = exact
+                    break
             b_now = branch.f(point.y, point.t)
             crossed = kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b
             branched = b_now * b_prev < 0
@@ -474,6 +533,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 except (NotConvergedError, ValueError):
                     pass
             b_prev, i_prev = b_now, t[interior]
+            pprev, r_pprev, r_prev = prev, r_prev, t["im"]
             if point.s > 3 * settings.max_step and float(point.t @ start.t) > 0.5 and \
                     _segment_distance(start.y, prev.y, point.y) <= 0.25 * float(np.linalg.norm(point.y - prev.y)):
                 end = "closed"
@@ -694,6 +754,18 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             stats.duplicates += 1
             continue
         take(kind, y)
+    for j, i in _im_candidates(grid):
+        qa = grid.config(j, i)
+        if qa is None:
+            continue
+        before = pb.counter.n
+        y = locate_im(pb, qa / pb.scale)
+        if y is None:
+            stats.failed += 1
+            continue
+        stats.im_candidates += 1
+        stats.locate_evaluations += pb.counter.n - before
+        _add_point(points, pb, sys_, y, mode, scale, tol, only_im=True)
     interior = _OTHER[boundary[0]]
     while seeds:
         y = seeds.pop(0)
@@ -705,14 +777,25 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     return curves, points, stats
 
 
-def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, mode, scale, tol) -> None:
-    """Classify the configuration ``y`` with the core and record it (merged with a point already there)."""
+def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, mode, scale, tol,
+               only_im: bool = False) -> None:
+    """Classify the configuration ``y`` with the core and record it.
+
+    A point is merged with one already recorded at the same configuration, or, for IM
+    points (whose configuration need not be unique: a leg folded onto its pivot turns
+    freely), at the same axis values (both within ``1e3 · same_configuration``, relative).
+    ``only_im`` records it only when the core says IM.
+    """
     q = y * pb.scale
     at = pb.axes(y) * scale
-    for p in points:
-        if np.linalg.norm((p.configuration - q) / pb.scale) <= 1e3 * tol.same_configuration:
-            return
     res = system.evaluators.indicators_at(q, tol)
+    if only_im and not res["im"]:
+        return
+    for p in points:
+        same_q = np.linalg.norm((p.configuration - q) / pb.scale) <= 1e3 * tol.same_configuration
+        same_at = np.linalg.norm((p.at - at) / scale) <= 1e3 * tol.same_configuration
+        if same_q or (res["im"] and "IM" in p.types and same_at):
+            return
     types = tuple(name for name, flag in (("IM", res["im"]), ("DKP-input", res["is_dkp_input"]),
                                            ("DKP-output", res["is_dkp_output"])) if flag)
     kind = "IM" if "IM" in types else ("meeting" if len(types) >= 2 else (types[0] if types else "end"))
