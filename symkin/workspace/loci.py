@@ -127,6 +127,13 @@ class LocusSystem:
         the user's unit (:meth:`MapSystem.to_user`: model lengths, degrees or radians), and
         ``axis_scale`` is ``ℓ`` for a length axis and one radian in the user's unit for an
         angle.  A :class:`LocusSystem` is returned as it is.
+
+        >>> from symkin.model.catalogue import get
+        >>> from symkin.workspace.system import map_system
+        >>> mech = get("rrr_3")
+        >>> ls = LocusSystem.of(map_system(mech, "velocity:C1.x", "rotation:platform", hold=["velocity:C1.y"]))
+        >>> ls.nf, ls.constraints.numel(), ls.axis_scale[0] == mech.length_scale, round(ls.axis_scale[1], 4)
+        (12, 10, True, 57.2958)
         """
         if isinstance(system, LocusSystem):
             return system
@@ -159,11 +166,19 @@ class GridData:
     configuration: Callable[[int, int], np.ndarray | None] | None = None
 
     def config(self, j: int, i: int) -> np.ndarray | None:
+        """The configuration at ``[j, i]``: from ``q`` when stored there, else from ``configuration``; or None."""
+        if not self.assembled[j, i]:
+            return None
         if self.q is not None:
-            return None if not self.assembled[j, i] else np.asarray(self.q[j, i], float)
+            q = np.asarray(self.q[j, i], float)
+            if np.all(np.isfinite(q)):
+                return q
         if self.configuration is not None:
-            return self.configuration(j, i)
-        raise SymkinError("refinement needs the grid's configurations (q) or a way to re-solve them")
+            q = self.configuration(j, i)
+            return None if q is None or not np.all(np.isfinite(q)) else np.asarray(q, float)
+        if self.q is None:
+            raise SymkinError("refinement needs the grid's configurations (q) or a way to re-solve them")
+        return None
 
     def at(self, j: int, i: int) -> np.ndarray:
         return np.array([self.xs[i], self.ys[j]], float)
@@ -668,6 +683,29 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     curves : list of Curve
     points : list of SingularPoint
     stats : RefineStats
+
+    Examples
+    --------
+    The catalogue five-bar (|A_i B_i| = 1, |B_i P| = 2, A = (∓1, 0)) over a coarse grid: the
+    mode's workspace boundary is the four circles |P − A_i| = 1, 3 (type 1, ``DKP-output``);
+    the outer ones end where they meet, at P = (0, √8), a corner of the workspace.
+
+    >>> import numpy as np
+    >>> from symkin.model.catalogue import get
+    >>> from symkin.workspace.system import map_system
+    >>> from symkin.workspace.grid import continue_mode
+    >>> s = map_system(get("five_bar"), "velocity:P.x", "velocity:P.y")
+    >>> xs, ys = np.linspace(-3.5, 3.5, 15), np.linspace(0.2, 4.4, 10)
+    >>> g = continue_mode(s, xs, ys, s.q0, keep_configurations=True)
+    >>> grid = GridData(xs, ys, g.assembled, g.dkp_input, g.dkp_output, g.im_indicator, q=g.q)
+    >>> curves, points, stats = refine(s, grid)
+    >>> sorted(c.ends for c in curves)
+    [('box', 'box'), ('box', 'box'), ('box', 'branch'), ('box', 'branch')]
+    >>> err = [min(abs(np.hypot(*(c.points - (a, 0)).T) - r).max() for a in (-1, 1) for r in (1, 3)) for c in curves]
+    >>> bool(max(err) < 1e-9)
+    True
+    >>> [(pt.kind, (abs(pt.at) + 0.0).round(9).tolist()) for pt in points]
+    [('DKP-output', [0.0, 2.828427125])]
     """
     sys_ = LocusSystem.of(system)
     pb = _Problems(sys_)
