@@ -310,6 +310,16 @@ class _Problems:
         """Free coordinates ``y`` at dimensionless axis values ``target`` (Newton from ``y0``)."""
         return newton(_Fn(self._square, self.counter, (ca.DM(target),)), y0, tol=_NEWTON_TOL, max_iterations=25)[0]
 
+    def square_singular(self, y: np.ndarray, tol: Tolerances) -> bool:
+        """Whether the square position problem is singular at ``y``: ``σ_min ≤ event_threshold · σ_max``.
+
+        Its rows are dimensionless, so the relative test is scale invariant; the threshold
+        is the core's path-event threshold (:attr:`Tolerances.event_threshold`).
+        """
+        jac = np.array(self._square(y, ca.DM.zeros(2))[1])
+        sv = np.linalg.svd(jac, compute_uv=False)
+        return bool(sv[-1] <= tol.event_threshold * sv[0])
+
     def extended(self, kind: str, a0: np.ndarray, d: np.ndarray) -> "_Fn":
         return _Fn(self._extended[kind], self.counter, (ca.DM(a0), ca.DM(d)))
 
@@ -393,13 +403,16 @@ def locate_crossing(pb: _Problems, kind: str, a_a: np.ndarray, y_a: np.ndarray, 
 
 
 def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray,
-                bisections: int = 16) -> tuple[str, np.ndarray, float]:
+                bisections: int = 16, tol: Tolerances = DEFAULT) -> tuple[str, np.ndarray, float]:
     """The mode's workspace boundary on the segment from assembled ``a_a`` (config ``y_a``) to ``a_b``.
 
     Bisection on whether the square problem solves from the last assembled point (a
     Newton step that does not converge, or that moves farther than the bracket allows,
     counts as not assembled), then the extended system with the DKP test function that is
-    smaller there polishes the fold.  Returns ``(kind, y, s)``.
+    smaller there polishes the fold; it is accepted when the square problem is singular
+    there (:meth:`_Problems.square_singular`), else the other function is tried.  Returns
+    ``(kind, y, s)``; raises NotConvergedError when neither gives a fold (a map whose axes
+    mix inputs and outputs: its folds are neither locus).
     """
     d = a_b - a_a
     lo, hi, y_lo = 0.0, 1.0, np.array(y_a, float)
@@ -412,9 +425,16 @@ def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray
             continue
         lo, y_lo = mid, y
     t = pb.tests(y_lo)
-    kind = min(KINDS, key=lambda k: abs(t[k]) if math.isfinite(t[k]) else math.inf)
-    y, s = _polish(pb, kind, a_a, d, y_lo, lo)
-    return kind, y, s
+    tried = sorted(KINDS, key=lambda k: abs(t[k]) if math.isfinite(t[k]) else math.inf)
+    for kind in tried:
+        try:
+            y, s = _polish(pb, kind, a_a, d, y_lo, lo)
+        except NotConvergedError:
+            continue
+        if pb.square_singular(y, tol):
+            return kind, y, s
+    raise NotConvergedError("the mode's boundary here is not a zero of a DKP test function "
+                            "(the square position problem stays regular where they vanish)", y=y_lo)
 
 
 def _im_candidates(grid: GridData) -> list[tuple[int, int]]:
@@ -782,7 +802,7 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             continue
         before = pb.counter.n
         try:
-            kind, y, s = locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_))
+            kind, y, s = locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)
         except NotConvergedError:
             stats.failed += 1
             continue

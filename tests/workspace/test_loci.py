@@ -307,6 +307,7 @@ def test_rrr_constant_orientation_loci(rrr_map):
 
 
 # ---------------------------------------------------------------------- an IM point where two loci meet
+@pytest.mark.slow
 def test_im_point_where_two_fold_curves_meet():
     """l1 = 2.2, l2 = 1.2 on the catalogue's base: the inner circles |P − A_i| = 1 touch at the origin, where all four
     bars are collinear (B1 = (1.2, 0), B2 = (−1.2, 0)) and the y velocities of B1, B2, P are free: L = 3 > F (IM).
