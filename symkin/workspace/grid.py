@@ -272,14 +272,22 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         progress(1)
 
     def keep_brackets(points: dict):
-        for (j, i), q in points.items():
-            for dj, di in _NEIGHBOURS:
-                jn, in_ = j + dj, i + di
-                if 0 <= jn < ny and 0 <= in_ < nx and (status[jn, in_] in (2, 3) or
-                                                        (status[jn, in_] == 1 and
-                                                         np.any(signs[jn, in_] != signs[j, i]))):
-                    kept[(j, i)] = q
-                    break
+        """Keep the configurations of ``points`` with a neighbour not assembled or of another DKP sign pattern."""
+        if not points:
+            return
+        idx = np.array(list(points))
+        j, i = idx[:, 0], idx[:, 1]
+        bracket = np.zeros(len(idx), bool)
+        for dj, di in _NEIGHBOURS:
+            jn, in_ = j + dj, i + di
+            inside = (jn >= 0) & (jn < ny) & (in_ >= 0) & (in_ < nx)
+            jn, in_ = np.clip(jn, 0, ny - 1), np.clip(in_, 0, nx - 1)
+            st = status[jn, in_]
+            other = (st == 1) & np.any(signs[jn, in_] != signs[j, i], axis=1)
+            bracket |= inside & ((st == 2) | (st == 3) | other)
+        for k in np.flatnonzero(bracket):
+            p = (int(j[k]), int(i[k]))
+            kept[p] = points[p]
 
     while wave:
         # candidates: untried or failed neighbours of the wave, each with its solved wave neighbours
