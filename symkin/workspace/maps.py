@@ -21,6 +21,11 @@ that module is installed (otherwise the map says so in :attr:`WorkspaceMap.notes
 Axis values are in the user's units (angles in ``unit``).  :meth:`WorkspaceMap.save` writes
 an ``.npz`` (grid arrays per mode, curves, the header as JSON text; no pickles) that
 :func:`load_map` reads back.
+
+For the plots (``symkin map --plot FILE.png``) the CLI calls
+``symkin.plots.maps.save_map_figure(workspace_map, path) -> path`` when that module exists; it
+reads only this object (``axes``, ``modes[k]`` grid arrays ``(ny, nx)`` indexed ``[j, i]`` ↔
+``(xs[i], ys[j])``, ``curves``, ``points``).
 """
 from __future__ import annotations
 
@@ -299,12 +304,12 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     xs_user, ys_user = axes[0].values, axes[1].values
     xs = system.to_internal(np.column_stack([xs_user, np.zeros(nx)]))[:, 0]
     ys = system.to_internal(np.column_stack([np.zeros(ny), ys_user]))[:, 1]
-    seeds_q = model_modes(system, seeds, modes, tolerances)
-    notes: list[str] = []
+    seeds_q, merged = model_modes(system, seeds, modes, tolerances)
+    notes: list[str] = list(merged)
     mode_maps: list[ModeMap] = []
     grids: list[ModeGrid] = []
     for label, q in seeds_q:
-        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations or refine,
+        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations,
                           progress=progress)
         dup = next((k for k, h in enumerate(grids) if _same_mode(h, g)), None)
         if dup is not None:
