@@ -241,16 +241,27 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
     # -- the seed's grid point, reached by marching from the seed
     seed_q = np.asarray(seed_q, float).ravel()
     a_seed = system.axis_values(seed_q[None])[0]
-    i0 = int(np.argmin(np.abs(xs - a_seed[0])))
-    j0 = int(np.argmin(np.abs(ys - a_seed[1])))
     cell = min(np.min(np.abs(np.diff(xs))) / axis_scale[0], np.min(np.abs(np.diff(ys))) / axis_scale[1])
-    dist = float(np.linalg.norm((at(j0, i0) - a_seed) / axis_scale))
+    # the grid points nearest the seed (its cell's corners first), batched: the first one reached starts
+    near_i = np.argsort(np.abs(xs - a_seed[0]), kind="stable")[:3]
+    near_j = np.argsort(np.abs(ys - a_seed[1]), kind="stable")[:3]
+    starts = sorted(((int(j), int(i)) for j in near_j for i in near_i),
+                    key=lambda p: float(np.linalg.norm((at(*p) - a_seed) / axis_scale)))
+    dst = np.array([at(*p) for p in starts])
+    dist = float(np.max(np.linalg.norm((dst - a_seed) / axis_scale, axis=1)))
     steps = max(1, int(math.ceil(2 * dist / cell)))
-    q_start, _, ok = _march(system, seed_q[None], a_seed[None], at(j0, i0)[None], steps, jump)
+    ok = np.zeros(len(starts), bool)
+    for refine_steps in (1, 4, 16):  # finer sub-steps when the seed is near a singularity
+        q_all, _, ok = _march(system, np.repeat(seed_q[None], len(starts), 0), np.repeat(a_seed[None], len(starts), 0),
+                              dst, steps * refine_steps, jump)
+        if ok.any():
+            break
     note = ""
-    if not ok[0]:
+    if not ok.any():
         note = "the mode does not reach the box from its seed"
         return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, (), {}, full_q, note)
+    first = int(np.flatnonzero(ok)[0])
+    (j0, i0), q_start = starts[first], q_all[first: first + 1]
 
     def record(idx: list, q: np.ndarray, res=None, sel=None):
         if res is None:

@@ -99,3 +99,80 @@ def test_parse_hold():
     assert parse_hold("slide:s=-1.5") == ("slide:s", -1.5)
     with pytest.raises(SymkinError, match="not a number"):
         parse_hold("rotation:platform=abc")
+
+
+RPR = """
+name = "3-RPR"
+dim = 2
+fixed = ["A1", "A2", "A3"]
+mobility = 3
+inputs = [{slide = "s1"}, {slide = "s2"}, {slide = "s3"}]
+outputs = [{twist = "platform"}]
+[nodes]
+A1 = [0.0, 0.0]
+A2 = [6.0, 0.0]
+A3 = [2.0, 5.0]
+D1 = [0.75, 0.75]
+D2 = [4.875, 0.875]
+D3 = [2.25, 4.0]
+C1 = [1.5, 1.5]
+C2 = [3.75, 1.75]
+C3 = [2.5, 3.0]
+O = [2.5, 2.0]
+[links]
+cyl1 = ["A1", "D1"]
+cyl2 = ["A2", "D2"]
+cyl3 = ["A3", "D3"]
+platform = ["C1", "C2", "C3", "O"]
+[[sliders]]
+id = "s1"
+node = "C1"
+line = ["A1", "D1"]
+link = "cyl1"
+[[sliders]]
+id = "s2"
+node = "C2"
+line = ["A2", "D2"]
+link = "cyl2"
+[[sliders]]
+id = "s3"
+node = "C3"
+line = ["A3", "D3"]
+link = "cyl3"
+"""
+
+
+@pytest.fixture(scope="module")
+def rpr(tmp_path_factory):
+    import symkin
+
+    path = tmp_path_factory.mktemp("rpr") / "rpr.toml"
+    path.write_text(RPR)
+    return symkin.read_model(path)
+
+
+def test_slide_axes_are_leg_lengths(rpr):
+    # slide:s_k along the moving line A_k -> D_k from A_k: the leg length |A_k C_k|
+    s = map_system(rpr, "slide:s1", "slide:s2", hold=["slide:s3"])
+    assert s.axis_values(s.q0[None])[0] == pytest.approx([math.hypot(1.5, 1.5), math.hypot(2.25, 1.75)], abs=1e-14)
+    assert s.hold_values == pytest.approx([math.hypot(0.5, 2.0)], abs=1e-14)
+    q, ok, _, _ = s.solve(s.q0[None], [[2.2, 2.8]])
+    x = s.evaluators.coordinates(q[0])
+    names = rpr.node_names
+    c1, c2, c3 = (x[names.index(n)] for n in ("C1", "C2", "C3"))
+    assert ok[0]
+    assert [np.linalg.norm(c1), np.linalg.norm(c2 - [6.0, 0.0]), np.linalg.norm(c3 - [2.0, 5.0])] == \
+        pytest.approx([2.2, 2.8, math.hypot(0.5, 2.0)], abs=1e-11)
+
+
+def test_joint_space_map_from_a_seed_near_a_singularity(rpr):
+    """The model is close to a type-2 configuration (DKP-input value -2.8e-4): the nearest grid point
+    lies beyond the fold, the mode starts from another grid point next to the seed."""
+    import symkin
+
+    assert abs(symkin.evaluators(rpr).indicators_at(map_system(rpr, "slide:s1", "slide:s2",
+                                                               hold=["slide:s3"]).q0)["dkp_input"]) < 1e-3
+    m = symkin.workspace_map(rpr, x="slide:s1=1.5:3", y="slide:s2=2:3.5", n=31, hold=["slide:s3"], refine=False)
+    mode = m.modes[0]
+    assert 0.2 < mode.fraction < 0.8 and mode.note == ""
+    assert np.all(np.isfinite(mode.dkp_input[mode.assembled]))
