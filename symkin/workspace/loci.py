@@ -78,7 +78,7 @@ import casadi as ca
 import numpy as np
 from scipy.optimize import brentq
 
-from symkin.analysis.batch import Evaluators, evaluators_for
+from symkin.analysis.batch import Evaluators
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.numeric.evaluators import INDICATOR_NAMES
 from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent

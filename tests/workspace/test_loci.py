@@ -7,7 +7,7 @@ import pytest
 from symkin.model.catalogue import data, get
 from symkin.model.mechanism import Mechanism
 from scipy.optimize import brentq
-from symkin.workspace.loci import GridData, LocusSystem, refine
+from symkin.workspace.loci import GridData, refine
 from symkin.workspace.system import map_system
 
 L1, L2 = 1.0, 2.0  # catalogue five_bar: |A_i B_i| = 1, |B_i P| = 2
