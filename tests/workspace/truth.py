@@ -61,9 +61,9 @@ def elbow(a, p, l1: float, l2: float, sign) -> np.ndarray:
         h = np.sqrt(np.where(h2 >= 0, h2, np.nan))
         u = d / r[..., None]
     n = np.stack([-u[..., 1], u[..., 0]], axis=-1)
-    # B = A + along u + s h n gives (B − A) × (P − B) = s h r, so the side is s = sign itself
+    # B = A + along u + t h n (n the left normal of u) gives (B − A) × (P − B) = −t h r: t = −sign
     s = np.sign(np.asarray(sign, float))
-    return a + along[..., None] * u + (s * h)[..., None] * n
+    return a + along[..., None] * u - (s * h)[..., None] * n
 
 
 # ----------------------------------------------------------------------------------- five-bar
@@ -239,6 +239,9 @@ def rpr_conic(a, c_local, phi: float) -> np.ndarray:
     is a sum of determinants of rows picked from {r⁰, e, f}; the cubic terms cancel because e and f
     have the same first two entries in every row (Sefrioui & Gosselin 1995: the locus is a conic).
     Returns the coefficients of det(p) = c_xx x² + c_xy xy + c_yy y² + c_x x + c_y y + c_0.
+    The conic also passes through the three points p = A_i − C_i⁰ where leg i has zero length
+    (a zero row), which are not configurations; and it splits into two lines when a side of the
+    platform is parallel to the corresponding side of the base (e.g. legs 1 and 2 on one line).
     """
     a = np.asarray(a, float)
     c0 = np.asarray(c_local, float) @ rot2(phi).T
@@ -281,19 +284,22 @@ def conic_points(coef, xs) -> np.ndarray:
 
 
 def lines_concurrency(points_a, points_c) -> float:
-    """Distance of line 3 from the intersection of lines 1 and 2, over the mean leg length.
+    """Distance of the third line from the intersection of the other two, over the mean leg length.
 
-    Lines through points_a[i] and points_c[i]; an independent test of concurrency (0 when the
-    three lines meet in one point; inf when lines 1 and 2 are parallel).
+    Lines through points_a[i] and points_c[i]; the two least parallel lines are intersected.  An
+    independent test of concurrency (0 when the three lines meet in one point; inf when all are
+    parallel).
     """
     a, c = np.asarray(points_a, float), np.asarray(points_c, float)
     d = c - a
-    den = cross2(d[0], d[1])
+    u = d / np.linalg.norm(d, axis=-1)[:, None]
+    i, j, k = max(((0, 1, 2), (0, 2, 1), (1, 2, 0)), key=lambda t: abs(cross2(u[t[0]], u[t[1]])))
+    den = cross2(d[i], d[j])
     if den == 0:
         return np.inf
-    t = cross2(a[1] - a[0], d[1]) / den
-    q = a[0] + t * d[0]
-    dist = abs(cross2(d[2], q - a[2])) / np.linalg.norm(d[2])
+    t = cross2(a[j] - a[i], d[j]) / den
+    q = a[i] + t * d[i]
+    dist = abs(cross2(u[k], q - a[k]))
     return float(dist / np.mean(np.linalg.norm(d, axis=-1)))
 
 
@@ -353,7 +359,8 @@ def rrr_type2(r: RRR3, p, phi: float, mode) -> np.ndarray:
     d = (c - b) / r.l2[:, None]
     rho = float(np.mean(np.linalg.norm(r.c_local, axis=1)))
     m = np.concatenate([d, (cross2(c, d) / rho)[..., None]], axis=-1)
-    return np.linalg.det(m)
+    with np.errstate(invalid="ignore"):
+        return np.linalg.det(m)
 
 
 def rrr_type1(r: RRR3, p, phi: float) -> np.ndarray:
