@@ -36,6 +36,20 @@ def trace(mechanism, *args, **kwargs):
     return _trace(mechanism, *args, **kwargs)
 
 
+def workspace_map(mechanism, *args, **kwargs):
+    """A workspace or joint-space singularity map: see :func:`symkin.workspace.maps.workspace_map`."""
+    from symkin.workspace.maps import workspace_map as _workspace_map
+
+    return _workspace_map(mechanism, *args, **kwargs)
+
+
+def load_map(path):
+    """Read a map saved by ``WorkspaceMap.save``: see :func:`symkin.workspace.maps.load_map`."""
+    from symkin.workspace.maps import load_map as _load_map
+
+    return _load_map(path)
+
+
 from symkin.tolerances import Tolerances
 
 __version__ = "0.1.0"
@@ -43,5 +57,5 @@ __version__ = "0.1.0"
 __all__ = ["Analysis", "Evaluators", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
            "analyze", "trace", "catalogue", "evaluators", "symbolic_model", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
-           "write_model",
+           "write_model", "workspace_map", "load_map",
            "__version__"]

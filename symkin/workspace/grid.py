@@ -1,0 +1,351 @@
+"""The map's grid and the continuation of one working mode over it (paper §VI).
+
+A mode is continued from its seed configuration over the grid in *waves* (breadth first:
+wave ``d`` holds the grid points ``d`` neighbour steps from the seed's grid point), each
+wave solved in one batched Newton call of :meth:`symkin.workspace.system.MapSystem.solve`
+from a neighbouring solved point of the previous wave.  Every wave's indicators come from
+the one analysis core, ``system.evaluators.batch(q)`` (IM indicator ``λ_{F+1}``, signed
+DKP-input / DKP-output values, decisions).
+
+Guards (as ``trace`` guards its steps):
+
+* **predictor distance** — the Newton start is the tangent predictor
+  ``q_N + (∂q/∂a)(a − a_N)`` from the neighbour ``N`` (``∂q/∂a`` from ``dS/dq`` at ``N``); a
+  solution farther from it than ``jump · ‖predictor step‖`` (:data:`JUMP`; distances in
+  units of the length scale) is not accepted.  It is re-solved from the neighbour in 2, 4, 8
+  sub-steps; when every attempt fails the point is marked ``rejected`` (a converged but
+  untrusted solution) or not assembled (Newton does not converge: outside the mode's
+  workspace).  Nothing is guessed.
+* **sign pattern** — a point whose signs of the DKP test functions differ from its
+  neighbour's is re-solved in 4 sub-steps from it; a different configuration means the
+  step jumped to another mode (marked ``rejected``), the same means a crossing of a
+  singular locus between the two.
+* **branch change** — a point that two solved neighbours predict differently is
+  re-solved from the second; two different configurations at one grid point reached by
+  two routes are reported in :attr:`ModeGrid.branch_changes`.
+
+Memory stays bounded: only two waves of configurations are held while continuing; the
+configurations at *bracket* points (a neighbour with another DKP sign pattern, or not
+assembled) are kept for refinement (:mod:`symkin.workspace.loci`), all of them only with
+``keep_configurations=True``.
+
+Arrays of a mode are ``(ny, nx)``, indexed ``[j, i]`` ↔ ``(xs[i], ys[j])``.
+"""
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from symkin.errors import SymkinError
+from symkin.tolerances import DEFAULT, Tolerances
+from symkin.workspace.system import NEWTON_TOL, MapSystem
+
+__all__ = ["Axis", "parse_axis", "make_axes", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
+
+#: a solution may lie at most this fraction of the predictor's step from the tangent predictor.
+#: Near a quadratic fold (the mode's workspace boundary, where q ~ sqrt(distance)) the tangent
+#: predictor's error reaches its own step as the point nears the fold, so 1.0 accepts every
+#: point of the mode and refuses a jump to a configuration farther away than one step.
+JUMP = 1.0
+#: bits of :attr:`ModeGrid.types`
+TYPE_BITS = {"IM": 1, "DKP-input": 2, "DKP-output": 4}
+#: sub-step counts tried after a rejected or failed full step
+_SUBSTEPS = (2, 4, 8)
+
+
+def type_names(bits: int) -> tuple[str, ...]:
+    """The types in a :attr:`ModeGrid.types` entry (``5`` → ``("IM", "DKP-output")``)."""
+    return tuple(name for name, b in TYPE_BITS.items() if int(bits) & b)
+
+
+# ---------------------------------------------------------------------- axes
+@dataclass(frozen=True)
+class Axis:
+    """One axis of a map: label, range ``[lo, hi]`` in user units (angles in the map's unit), ``n`` points."""
+
+    label: str
+    lo: float
+    hi: float
+    n: int
+
+    @property
+    def values(self) -> np.ndarray:
+        return np.linspace(self.lo, self.hi, self.n)
+
+    def to_dict(self) -> dict:
+        return {"label": self.label, "lo": float(self.lo), "hi": float(self.hi), "n": int(self.n)}
+
+
+def parse_axis(text: str, option: str = "--x") -> tuple[str, float, float]:
+    """``"LABEL=LO:HI"`` → ``(label, lo, hi)``; a :class:`SymkinError` naming the option otherwise.
+
+    >>> parse_axis("velocity:P.x=-3.5:3.5")
+    ('velocity:P.x', -3.5, 3.5)
+    """
+    label, eq, rng = str(text).rpartition("=")
+    parts = rng.split(":")
+    if not eq or not label or len(parts) != 2:
+        raise SymkinError(f"{option} {text!r}: expected LABEL=LO:HI, e.g. velocity:P.x=-3.5:3.5")
+    try:
+        lo, hi = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise SymkinError(f"{option} {text!r}: LO and HI must be numbers") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+        raise SymkinError(f"{option} {text!r}: LO must be less than HI")
+    return label.strip(), lo, hi
+
+
+def make_axes(x: str, y: str, n) -> tuple[tuple[str, float, float], tuple[str, float, float], tuple[int, int]]:
+    """Parse both axes and the number of points per axis (``n`` or ``(nx, ny)``, each >= 2)."""
+    ax, ay = parse_axis(x, "--x"), parse_axis(y, "--y")
+    ns = (n, n) if np.ndim(n) == 0 else tuple(n)
+    if len(ns) != 2 or any(int(k) != k or int(k) < 2 for k in ns):
+        raise SymkinError(f"--n {n!r}: the number of grid points per axis must be an integer >= 2")
+    return ax, ay, (int(ns[0]), int(ns[1]))
+
+
+# ---------------------------------------------------------------------- result of one mode
+@dataclass(frozen=True, eq=False)
+class ModeGrid:
+    """One working mode continued over the grid (arrays ``(ny, nx)``; NaN where not assembled).
+
+    Attributes
+    ----------
+    seed_q : (nf,) the seed configuration; ``assembled`` bool; ``rejected`` bool (converged
+    solutions not accepted by the jump checks); ``im_indicator``, ``dkp_input``,
+    ``dkp_output`` (the core's values); ``types`` int8 bits (:data:`TYPE_BITS`);
+    ``branch_changes`` pairs of grid indices ``((j, i), (j2, i2))`` where the two routes give
+    different configurations; ``configurations`` ``{(j, i): q}`` at bracket points; ``q``
+    ``(ny, nx, nf)`` (NaN where not assembled) only with ``keep_configurations``.
+    """
+
+    seed_q: np.ndarray = field(repr=False)
+    assembled: np.ndarray = field(repr=False)
+    rejected: np.ndarray = field(repr=False)
+    im_indicator: np.ndarray = field(repr=False)
+    dkp_input: np.ndarray = field(repr=False)
+    dkp_output: np.ndarray = field(repr=False)
+    types: np.ndarray = field(repr=False)
+    branch_changes: tuple = ()
+    configurations: dict = field(default_factory=dict, repr=False)
+    q: np.ndarray | None = field(default=None, repr=False)
+    note: str = ""
+
+    @property
+    def fraction(self) -> float:
+        """Assembled fraction of the grid points."""
+        return float(np.count_nonzero(self.assembled)) / self.assembled.size
+
+    def config(self, j: int, i: int) -> np.ndarray | None:
+        """The configuration at grid point ``[j, i]`` when it was kept (None otherwise)."""
+        if self.q is not None:
+            return None if not self.assembled[j, i] else self.q[j, i].copy()
+        q = self.configurations.get((int(j), int(i)))
+        return None if q is None else q.copy()
+
+
+# ---------------------------------------------------------------------- continuation
+def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units)."""
+    _, jac = system.evaluate("square", q, system.targets(a))
+    nf = system.nf
+    scale = np.array([c.scale(system.mech.length_scale) for c in system.axes])
+    rhs = np.zeros((nf, 2))
+    rhs[nf - 2, 0], rhs[nf - 1, 1] = 1.0 / scale[0], 1.0 / scale[1]
+    try:
+        return np.linalg.solve(jac, np.broadcast_to(rhs, (q.shape[0], nf, 2)))
+    except np.linalg.LinAlgError:
+        out = np.zeros((q.shape[0], nf, 2))
+        for k in range(q.shape[0]):
+            out[k] = np.linalg.lstsq(jac[k], rhs, rcond=None)[0]
+        return out
+
+
+def _march(system: MapSystem, q: np.ndarray, a: np.ndarray, a_dst: np.ndarray, steps: int, jump: float):
+    """Continue N configurations from axis values ``a`` to ``a_dst`` in ``steps`` equal sub-steps.
+
+    Returns ``(q, converged, accepted)``: ``converged`` Newton converged at ``a_dst`` (the
+    last sub-step was reached), ``accepted`` also within ``jump`` of every predictor.
+    """
+    q = np.array(q, dtype=float)
+    n = q.shape[0]
+    ell = system.mech.length_scale
+    conv = np.zeros(n, bool)
+    acc = np.zeros(n, bool) if steps < 1 else np.ones(n, bool)
+    live = np.arange(n)
+    for s in range(1, steps + 1):
+        if live.size == 0:
+            break
+        a0 = a[live] + (a_dst[live] - a[live]) * ((s - 1) / steps)
+        a1 = a[live] + (a_dst[live] - a[live]) * (s / steps)
+        t = _tangents(system, q[live], a0)
+        dq = np.einsum("nij,nj->ni", t, a1 - a0)
+        pred = q[live] + dq
+        sol, ok, _, _ = system.solve(pred, a1)
+        dist = np.linalg.norm(sol - pred, axis=1) / ell
+        good = ok & (dist <= jump * np.linalg.norm(dq, axis=1) / ell + 1e3 * NEWTON_TOL)
+        if s == steps:
+            conv[live[ok]] = True
+        acc[live[~good]] = False
+        q[live[good]] = sol[good]
+        live = live[good]
+    return q, conv, acc
+
+
+def _signs(res, k: np.ndarray) -> np.ndarray:
+    """Sign pattern (N, 2) of the DKP values (0 where undefined)."""
+    return np.column_stack([np.nan_to_num(np.sign(res.dkp_input[k])), np.nan_to_num(np.sign(res.dkp_output[k]))])
+
+
+_NEIGHBOURS = ((0, 1), (0, -1), (1, 0), (-1, 0))
+
+
+def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray,
+                  tolerances: Tolerances | float | None = None, keep_configurations: bool = False,
+                  jump: float = JUMP, progress=None) -> ModeGrid:
+    """Continue the mode of ``seed_q`` over the grid ``xs × ys`` (internal units) and evaluate the indicators.
+
+    Parameters
+    ----------
+    system : MapSystem
+    xs, ys : (nx,), (ny,) axis values in internal units (radians, model lengths).
+    seed_q : (nf,) a configuration of the mode (on the held values).
+    tolerances : the core's tolerances (decisions; ``same_configuration`` separates two
+        configurations in the branch-change and sign-pattern checks).
+    keep_configurations : keep every configuration (``ModeGrid.q``, ``(ny, nx, nf)``).
+    jump : the predictor-distance ratio (:data:`JUMP`).
+    progress : optional callable ``progress(k)`` told the number of points done per wave.
+    """
+    tol = Tolerances.of(tolerances)
+    ev = system.evaluators
+    ell = system.mech.length_scale
+    nx, ny, nf = len(xs), len(ys), system.nf
+    shape = (ny, nx)
+    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected
+    im = np.full(shape, np.nan)
+    d_in = np.full(shape, np.nan)
+    d_out = np.full(shape, np.nan)
+    types = np.zeros(shape, np.int8)
+    signs = np.zeros(shape + (2,), np.int8)
+    full_q = np.full(shape + (nf,), np.nan) if keep_configurations else None
+    kept: dict = {}
+    branches: list = []
+    axis_scale = np.array([c.scale(ell) for c in system.axes])
+
+    def at(j, i):
+        return np.array([xs[i], ys[j]])
+
+    # -- the seed's grid point, reached by marching from the seed
+    seed_q = np.asarray(seed_q, float).ravel()
+    a_seed = system.axis_values(seed_q[None])[0]
+    i0 = int(np.argmin(np.abs(xs - a_seed[0])))
+    j0 = int(np.argmin(np.abs(ys - a_seed[1])))
+    cell = min(np.min(np.abs(np.diff(xs))) / axis_scale[0], np.min(np.abs(np.diff(ys))) / axis_scale[1])
+    dist = float(np.linalg.norm((at(j0, i0) - a_seed) / axis_scale))
+    steps = max(1, int(math.ceil(2 * dist / cell)))
+    q_start, _, ok = _march(system, seed_q[None], a_seed[None], at(j0, i0)[None], steps, jump)
+    note = ""
+    if not ok[0]:
+        note = "the mode does not reach the box from its seed"
+        return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, (), {}, full_q, note)
+
+    def record(idx: list, q: np.ndarray, res=None, sel=None):
+        if res is None:
+            res, sel = ev.batch(q, tol), np.arange(len(idx))
+        jj = np.array([p[0] for p in idx])
+        ii = np.array([p[1] for p in idx])
+        im[jj, ii] = res.im_indicator[sel]
+        d_in[jj, ii] = res.dkp_input[sel]
+        d_out[jj, ii] = res.dkp_output[sel]
+        types[jj, ii] = (res.im[sel] * 1 + res.is_dkp_input[sel] * 2 + res.is_dkp_output[sel] * 4).astype(np.int8)
+        signs[jj, ii] = _signs(res, sel)
+        status[jj, ii] = 1
+        if full_q is not None:
+            full_q[jj, ii] = q
+
+    record([(j0, i0)], q_start)
+    wave: dict = {(j0, i0): q_start[0]}
+    if progress:
+        progress(1)
+
+    def keep_brackets(points: dict):
+        for (j, i), q in points.items():
+            for dj, di in _NEIGHBOURS:
+                jn, in_ = j + dj, i + di
+                if 0 <= jn < ny and 0 <= in_ < nx and (status[jn, in_] in (2, 3) or
+                                                        (status[jn, in_] == 1 and
+                                                         np.any(signs[jn, in_] != signs[j, i]))):
+                    kept[(j, i)] = q
+                    break
+
+    while wave:
+        # candidates: untried or failed neighbours of the wave, each with its solved wave neighbours
+        sources: dict = {}
+        for (j, i) in wave:
+            for dj, di in _NEIGHBOURS:
+                p = (j + dj, i + di)
+                if 0 <= p[0] < ny and 0 <= p[1] < nx and status[p] in (0, 2):
+                    sources.setdefault(p, []).append((j, i))
+        if not sources:
+            keep_brackets(wave)
+            break
+        cand = list(sources)
+        src = [sources[p][0] for p in cand]
+        q_src = np.array([wave[s] for s in src])
+        a_src = np.array([at(*s) for s in src])
+        a_dst = np.array([at(*p) for p in cand])
+        q_new, conv, acc = _march(system, q_src, a_src, a_dst, 1, jump)
+        for k_sub in _SUBSTEPS:
+            redo = np.flatnonzero(~acc)
+            if redo.size == 0:
+                break
+            q2, c2, a2 = _march(system, q_src[redo], a_src[redo], a_dst[redo], k_sub, jump)
+            q_new[redo], acc[redo] = q2, a2
+            conv[redo] |= c2
+        for k in np.flatnonzero(~acc):
+            status[cand[k]] = 3 if conv[k] else 2
+        good = np.flatnonzero(acc)
+        # branch changes: a second solved neighbour that predicts another configuration
+        check = [(k, s2) for k in good for s2 in sources[cand[k]][1:]]
+        if check:
+            kk = np.array([c[0] for c in check])
+            q2_src = np.array([wave[c[1]] for c in check])
+            a2_src = np.array([at(*c[1]) for c in check])
+            t = _tangents(system, q2_src, a2_src)
+            dq = np.einsum("nij,nj->ni", t, a_dst[kk] - a2_src)
+            far = np.linalg.norm(q_new[kk] - (q2_src + dq), axis=1) > jump * np.linalg.norm(dq, axis=1) + \
+                1e3 * NEWTON_TOL * ell
+            if np.any(far):
+                sel = np.flatnonzero(far)
+                q3, _, a3 = _march(system, q2_src[sel], a2_src[sel], a_dst[kk[sel]], 4, jump)
+                differ = a3 & (np.linalg.norm(q3 - q_new[kk[sel]], axis=1) > tol.same_configuration * ell)
+                for m in np.flatnonzero(differ):
+                    branches.append((cand[kk[sel[m]]], check[sel[m]][1]))
+        # indicators, and the sign-pattern check against the source neighbour
+        if good.size:
+            idx = [cand[k] for k in good]
+            res = ev.batch(q_new[good], tol)
+            sg = _signs(res, np.arange(good.size))
+            src_sg = np.array([signs[src[k]] for k in good])
+            changed = np.flatnonzero(np.any(sg != src_sg, axis=1) & np.all(sg != 0, axis=1)
+                                     & np.all(src_sg != 0, axis=1))
+            keep = np.ones(good.size, bool)
+            if changed.size:
+                kg = good[changed]
+                q4, _, a4 = _march(system, q_src[kg], a_src[kg], a_dst[kg], 4, jump)
+                same = a4 & (np.linalg.norm(q4 - q_new[kg], axis=1) <= tol.same_configuration * ell)
+                for m in np.flatnonzero(~same):
+                    status[cand[kg[m]]] = 3
+                keep[changed[~same]] = False
+            good, sel = good[keep], np.flatnonzero(keep)
+            if good.size:
+                record([cand[k] for k in good], q_new[good], res, sel)
+        keep_brackets(wave)
+        wave = {cand[k]: q_new[k] for k in good}
+        if progress:
+            progress(len(cand))
+    return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, tuple(branches), kept, full_q,
+                    note)

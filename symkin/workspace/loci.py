@@ -1,0 +1,719 @@
+"""Refinement of a singularity map to exact curves: crossing location and curve tracing (issue 8).
+
+A map fixes two position-level *axis coordinates* ``a(q) = (x, y)`` of a mechanism with
+``F`` degrees of freedom; the remaining ``F − 2`` coordinates are *held*.  With the
+closure ``Φ(q) = 0`` this leaves, at each axis point, a square position problem (the
+map's grid), and with one more equation ``T(q) = 0`` a 1-D solution set: a singular
+curve.  ``T`` is one of the signed DKP test functions of the one analysis core,
+``det[J_S; P̂] / sqrt(det(J_S J_Sᵀ))`` for the input rows (``DKP-input``, type 2, eq. 12)
+or the output rows (``DKP-output``, type 1, eq. 16), taken as a CasADi expression from
+the ``indicators`` Function of :mod:`symkin.numeric.evaluators` (no copy of it here).
+
+Contract with the map engine
+----------------------------
+:func:`refine` ``(system, grid, mode, tolerances, box)`` returns ``(curves, points, stats)``.
+
+``system``
+    the map's :class:`symkin.workspace.system.MapSystem` (its ``constraints`` and ``axes``
+    Functions, ``hold_values``, ``evaluators``), or a :class:`LocusSystem` built from it
+    (:meth:`LocusSystem.of`): an SX symbol ``q`` of the ``nf`` free coordinates,
+    ``constraints`` (SX, dimensionless: ``Φ_S/ℓ`` and the held coordinates, ``nf − 2``
+    rows), ``axes`` (SX, 2 rows, in *axis values*: the user's unit, model lengths or
+    degrees / radians as the map's ``unit``) and ``axis_scale`` (axis values per
+    dimensionless unit: ``ℓ`` for a length axis, one radian in the user's unit for an
+    angle), ``ℓ`` the model's length scale.
+``grid`` (:class:`GridData`)
+    ``xs`` (nx,), ``ys`` (ny,) axis values in the user's unit (as ``axes``); arrays of shape ``(ny, nx)`` indexed
+    ``[j, i]`` ↔ ``(xs[i], ys[j])``: ``assembled`` (bool), ``dkp_input``, ``dkp_output``,
+    ``im_indicator`` and ``trace`` (NaN where not assembled), and ``q`` (``(ny, nx, nf)``)
+    or a callable ``configuration(j, i) -> q | None`` when configurations are not stored.
+``box``
+    ``((x_lo, x_hi), (y_lo, y_hi))`` in axis values (default: the grid's extent).
+
+Algorithm
+---------
+1. **Crossings** — every grid edge whose two assembled ends have opposite signs of a DKP
+   test function brackets a crossing.  The root is searched along the edge (Brent's
+   method on ``T`` of the square problem solved at interpolated axis values, warm-started
+   from the nearer end), then polished by Gauss–Newton on the extended system
+   ``(Φ/ℓ, holds, a(q)/axis_scale − (a₀ + s·d), T) = 0`` in ``(q/ℓ, s)``.
+2. **Folds** — an edge from an assembled to an unassembled end brackets the mode's
+   workspace boundary (a fold of the square problem).  Bisection on "the square problem
+   still solves from the assembled neighbour" narrows it; the same extended system with
+   the DKP test function that vanishes there (``DKP-output`` in a workspace map,
+   ``DKP-input`` in a joint-space map: the smaller of the two) polishes it.
+3. **Tracing** — from a located point, pseudo-arclength continuation
+   (:func:`symkin.paths.continuation.continue_curve`) of ``(Φ/ℓ, holds, T) = 0`` in
+   ``y = q/ℓ`` with both axis coordinates free, in both directions, until the curve
+   *closes* (passes its start again in the same direction), *leaves the box* (the last
+   point is solved onto the box edge), *meets the workspace boundary* of the mode (the
+   other DKP test function changes sign: located by
+   :func:`symkin.paths.events.locate_sign_change`), nears an IM configuration (relative
+   ``σ_{F+1}`` below :attr:`Tolerances.near_branch`, where ``T`` is not defined) or
+   cannot be continued.  A crossing that lies on a curve already traced (configuration
+   within a few cell sizes of its polyline in ``q``) is not traced again.
+4. **Points** — where a curve ends on the mode boundary or near IM, the end
+   configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
+   reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
+   when it has two or more types, else its type).
+
+Accuracy: every located and traced point satisfies ``‖(Φ/ℓ, holds, T)‖ ≤ 1e-12``
+(Newton's tolerance), i.e. it lies on its locus to ~1e-12 relative to ``ℓ`` where the
+locus is regular; crossings are polished until the Gauss–Newton step is below 1e-10
+relative (``‖Δ(q/ℓ)‖``).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import casadi as ca
+import numpy as np
+from scipy.optimize import brentq
+
+from symkin.analysis.batch import Evaluators, evaluators_for
+from symkin.errors import NotConvergedError, SymkinError
+from symkin.numeric.evaluators import INDICATOR_NAMES
+from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
+from symkin.paths.events import TestFunction, locate_sign_change
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
+           "locate_crossing", "locate_fold", "trace_locus", "KINDS"]
+
+#: curve kinds and the indicator output that defines each
+KINDS = {"DKP-input": "dkp_input", "DKP-output": "dkp_output"}
+_OTHER = {"DKP-input": "DKP-output", "DKP-output": "DKP-input"}
+#: Gauss–Newton tolerance of located points (residual, dimensionless)
+_NEWTON_TOL = 1e-12
+#: relative step at which a located point counts as polished (the issue's 1e-10)
+_POLISH = 1e-10
+#: relative displacement at which a 0/0 derivative of the indicator kernel is re-evaluated
+_JACOBIAN_BUMP = 1e-12
+
+
+# ---------------------------------------------------------------------- inputs
+@dataclass(eq=False)
+class LocusSystem:
+    """The map's position problem as SX expressions (see the module docstring)."""
+
+    evaluators: Evaluators
+    q: ca.SX
+    constraints: ca.SX
+    axes: ca.SX
+    axis_scale: tuple[float, float]
+
+    @property
+    def scale(self) -> float:
+        return float(self.evaluators.mech.length_scale)
+
+    @property
+    def nf(self) -> int:
+        return int(self.q.numel())
+
+    @classmethod
+    def of(cls, system: Any) -> "LocusSystem":
+        """The locus problem of a map position problem (a :class:`symkin.workspace.system.MapSystem`).
+
+        ``constraints`` are the system's ``constraints`` Function (closure rows ``Φ_S/ℓ`` and
+        the held coordinates at ``hold_values``), ``axes`` its ``axes`` Function converted to
+        the user's unit (:meth:`MapSystem.to_user`: model lengths, degrees or radians), and
+        ``axis_scale`` is ``ℓ`` for a length axis and one radian in the user's unit for an
+        angle.  A :class:`LocusSystem` is returned as it is.
+        """
+        if isinstance(system, LocusSystem):
+            return system
+        try:
+            fn, ev = system.functions, system.evaluators
+            q = ca.SX.sym("q", ev.nf)
+            cons = fn["constraints"](q, ca.DM(np.asarray(system.hold_values, float)))[0]
+            factors = np.asarray(system.to_user(np.ones(2)), float)  # user units per internal unit
+            axes = fn["axes"](q)[0] * ca.DM(factors)
+            ell = float(ev.mech.length_scale)
+            scale = tuple(ell if c.kind == "length" else float(f) for c, f in zip(system.axes, factors))
+        except (AttributeError, KeyError, TypeError) as exc:
+            raise SymkinError(f"refinement needs a map position problem (symkin.workspace.system.MapSystem), "
+                              f"got {type(system).__name__} ({exc})") from None
+        return cls(ev, q, cons, axes, scale)
+
+
+@dataclass(frozen=True, eq=False)
+class GridData:
+    """Grid values of one mode (arrays ``(ny, nx)`` indexed ``[j, i]`` ↔ ``(xs[i], ys[j])``)."""
+
+    xs: np.ndarray
+    ys: np.ndarray
+    assembled: np.ndarray
+    dkp_input: np.ndarray
+    dkp_output: np.ndarray
+    im_indicator: np.ndarray | None = None
+    trace: np.ndarray | None = None
+    q: np.ndarray | None = None
+    configuration: Callable[[int, int], np.ndarray | None] | None = None
+
+    def config(self, j: int, i: int) -> np.ndarray | None:
+        if self.q is not None:
+            return None if not self.assembled[j, i] else np.asarray(self.q[j, i], float)
+        if self.configuration is not None:
+            return self.configuration(j, i)
+        raise SymkinError("refinement needs the grid's configurations (q) or a way to re-solve them")
+
+    def at(self, j: int, i: int) -> np.ndarray:
+        return np.array([self.xs[i], self.ys[j]], float)
+
+
+# ---------------------------------------------------------------------- results
+@dataclass(frozen=True, eq=False)
+class Curve:
+    """A traced singular curve of one mode.
+
+    ``points`` (N, 2) in axis values, ordered along the curve (a closed curve's last point
+    joins its first, which is not repeated); ``configurations`` (N, nf) the free
+    coordinates there; ``ends`` why each end stopped (``"closed"``, ``"box"``,
+    ``"boundary"``, ``"branch"``, ``"IM"``, ``"stalled"``, ``"steps"``).
+    """
+
+    kind: str
+    mode: Any
+    closed: bool
+    points: np.ndarray = field(repr=False)
+    configurations: np.ndarray = field(repr=False)
+    ends: tuple[str, ...] = ()
+    evaluations: int = 0
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "mode": self.mode, "closed": bool(self.closed),
+                "points": [[float(a), float(b)] for a, b in self.points]}
+
+
+@dataclass(frozen=True, eq=False)
+class SingularPoint:
+    """An isolated singular point (an IM point, where a curve meets the mode boundary), classified by the core."""
+
+    kind: str
+    mode: Any
+    at: np.ndarray
+    types: tuple[str, ...]
+    configuration: np.ndarray = field(repr=False, default=None)
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "mode": self.mode, "at": [float(v) for v in self.at], "types": list(self.types)}
+
+
+@dataclass
+class RefineStats:
+    """What refinement cost: brackets seen, located points, skipped duplicates, evaluations.
+
+    ``located`` crossings and folds located on the grid, ``seeded`` interior curves started
+    from meeting points on boundary curves, ``duplicates`` brackets or seeds that lay on a
+    curve already traced; ``*_evaluations`` count residual-and-Jacobian evaluations.
+    """
+
+    crossings: int = 0
+    folds: int = 0
+    located: int = 0
+    seeded: int = 0
+    duplicates: int = 0
+    failed: int = 0
+    locate_evaluations: int = 0
+    trace_evaluations: int = 0
+    traced_points: int = 0
+
+    @property
+    def evaluations_per_located_point(self) -> float:
+        return self.locate_evaluations / self.located if self.located else math.nan
+
+
+# ---------------------------------------------------------------------- CasADi problems
+class _Counted:
+    """Calls of the residual/Jacobian Functions (one count per evaluation)."""
+
+    n = 0
+
+
+class _Problems:
+    """The CasADi Functions refinement evaluates, in ``y = q/ℓ`` and dimensionless axes ``A = a/axis_scale``."""
+
+    def __init__(self, system: LocusSystem):
+        self.system = system
+        ev = system.evaluators
+        if not ev.fast:
+            raise SymkinError(f"{ev.mech.name}: the DKP test functions need the indicator kernel "
+                              "(nf - F independent constraint rows); refinement is not available")
+        self.scale = system.scale
+        self.counter = _Counted()
+        q = system.q
+        y = ca.SX.sym("y", system.nf)
+        qy = self.scale * y
+        ind = ev.symbolic_function("indicators")(q)
+        named = dict(zip(INDICATOR_NAMES, ind))
+        g = ca.substitute(system.constraints, q, qy)
+        ax = ca.substitute(system.axes / ca.DM(np.array(system.axis_scale)), q, qy)
+        tests = {k: ca.substitute(named[v], q, qy) for k, v in KINDS.items()}
+        rel_im = ca.sqrt(ca.fmax(ca.substitute(named["im"] / named["trace"], q, qy), 0))
+        self.n_constraints = int(g.numel())
+        self._axes = ca.Function("axes", [y], [ax, ca.jacobian(ax, y)])
+        self._tests = ca.Function("tests", [y], [tests["DKP-input"], tests["DKP-output"], rel_im])
+        self._curve = {k: ca.Function(f"locus_{KINDS[k]}", [y], [ca.vertcat(g, t), ca.jacobian(ca.vertcat(g, t), y)])
+                       for k, t in tests.items()}
+        target = ca.SX.sym("target", 2)
+        sq = ca.vertcat(g, ax - target)
+        self._square = ca.Function("square", [y, target], [sq, ca.jacobian(sq, y)])
+        s = ca.SX.sym("s")
+        a0, d = ca.SX.sym("a0", 2), ca.SX.sym("d", 2)
+        z = ca.vertcat(y, s)
+        self._extended = {}
+        for k, t in tests.items():
+            e = ca.vertcat(g, ax - (a0 + s * d), t)
+            self._extended[k] = ca.Function(f"extended_{KINDS[k]}", [z, a0, d], [e, ca.jacobian(e, z)])
+
+    # numbers
+    def axes(self, y) -> np.ndarray:
+        return np.array(self._axes(y)[0]).ravel()
+
+    def tests(self, y) -> dict[str, float]:
+        a, b, c = (float(v) for v in self._tests(y))
+        return {"DKP-input": a, "DKP-output": b, "im": c}
+
+    def curve(self, kind: str) -> "_Curve":
+        return _Curve(self._curve[kind], self.counter)
+
+    def solve_square(self, target: np.ndarray, y0: np.ndarray) -> np.ndarray:
+        """Free coordinates ``y`` at dimensionless axis values ``target`` (Newton from ``y0``)."""
+        return newton(_Fn(self._square, self.counter, (ca.DM(target),)), y0, tol=_NEWTON_TOL, max_iterations=25)[0]
+
+    def extended(self, kind: str, a0: np.ndarray, d: np.ndarray) -> "_Fn":
+        return _Fn(self._extended[kind], self.counter, (ca.DM(a0), ca.DM(d)))
+
+
+class _Fn:
+    """A CurveProblem-like wrapper of a CasADi Function ``(z, *params) -> (r, J)`` that counts calls."""
+
+    def __init__(self, fn, counter, params=()):
+        self.fn, self.counter, self.params = fn, counter, params
+
+    def residual_and_jacobian(self, z):
+        self.counter.n += 1
+        r, j = self.fn(z, *self.params)
+        r, j = np.array(r).ravel(), np.array(j)
+        if not np.all(np.isfinite(j)) and np.all(np.isfinite(r)):
+            j = self._nearby_jacobian(np.asarray(z, float))
+        return r, j
+
+    def _nearby_jacobian(self, z):
+        """The Jacobian a rounding step away, where the kernel's derivative is 0/0 (see below).
+
+        The indicator kernel's Givens rotations take ``sqrt(a² + b²)`` of two entries of the
+        constraint rows; where both vanish exactly (a bar exactly parallel to an axis, e.g.
+        on a symmetry line) the value is right but its derivative is NaN.  The Jacobian at
+        ``z + δ``, ``|δ| ~ 1e-12`` relative, is then used (it differs by ~1e-12).
+        """
+        bump = _JACOBIAN_BUMP * np.maximum(1.0, np.abs(z)) * np.cos(np.arange(z.size) + 0.5)
+        for k in range(1, 4):
+            j = np.array(self.fn(z + k * bump, *self.params)[1])
+            if np.all(np.isfinite(j)):
+                return j
+        return j
+
+    def residual(self, z):
+        return self.residual_and_jacobian(z)[0]
+
+    def jacobian(self, z):
+        return self.residual_and_jacobian(z)[1]
+
+
+class _Curve(_Fn):
+    """The locus ``(Φ/ℓ, holds, T)(y) = 0`` as a :class:`~symkin.paths.continuation.CurveProblem`."""
+
+
+# ---------------------------------------------------------------------- location
+def _polish(pb: _Problems, kind: str, a0: np.ndarray, d: np.ndarray, y: np.ndarray, s: float
+            ) -> tuple[np.ndarray, float]:
+    """Gauss–Newton on the extended system in ``(y, s)``; raises NotConvergedError."""
+    problem = pb.extended(kind, a0, d)
+    z, _, _ = newton(problem, np.append(y, s), tol=_NEWTON_TOL, max_iterations=30)
+    # polished: one more Newton step is below the relative target
+    r, j = problem.residual_and_jacobian(z)
+    step = np.linalg.lstsq(j, -r, rcond=None)[0]
+    if np.linalg.norm(step) > _POLISH * max(1.0, float(np.linalg.norm(z[:-1]))):
+        raise NotConvergedError("crossing not polished", y=z[:-1], residual=float(np.linalg.norm(r)))
+    return z[:-1], float(z[-1])
+
+
+def locate_crossing(pb: _Problems, kind: str, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray,
+                    y_b: np.ndarray) -> tuple[np.ndarray, float]:
+    """Root of ``T`` (``kind``) on the segment from dimensionless axis values ``a_a`` to ``a_b``.
+
+    ``y_a``, ``y_b`` are the configurations of the same mode at the ends, with opposite
+    signs of ``T``.  Brent's method on ``T(solve(a_a + s·d))``, warm-started from the nearer
+    end, then the extended system polishes ``(y, s)``.  Returns ``(y, s)``.
+    """
+    d = a_b - a_a
+    ta, tb = pb.tests(y_a)[kind], pb.tests(y_b)[kind]
+    cache = {}
+
+    def t_of(s):
+        y0 = y_a if s <= 0.5 else y_b
+        y = pb.solve_square(a_a + s * d, y0 if not cache else cache[min(cache, key=lambda k: abs(k - s))])
+        cache[s] = y
+        return pb.tests(y)[kind]
+
+    # a coarse bracket is enough: the extended system polishes it quadratically
+    s = brentq(lambda s: ta if s == 0 else tb if s == 1 else t_of(s), 0.0, 1.0, xtol=1e-6)
+    y0 = cache.get(s, y_a if s <= 0.5 else y_b)
+    return _polish(pb, kind, a_a, d, y0, s)
+
+
+def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray,
+                bisections: int = 16) -> tuple[str, np.ndarray, float]:
+    """The mode's workspace boundary on the segment from assembled ``a_a`` (config ``y_a``) to ``a_b``.
+
+    Bisection on whether the square problem solves from the last assembled point (a
+    Newton step that does not converge, or that moves farther than the bracket allows,
+    counts as not assembled), then the extended system with the DKP test function that is
+    smaller there polishes the fold.  Returns ``(kind, y, s)``.
+    """
+    d = a_b - a_a
+    lo, hi, y_lo = 0.0, 1.0, np.array(y_a, float)
+    for _ in range(bisections):
+        mid = 0.5 * (lo + hi)
+        try:
+            y = pb.solve_square(a_a + mid * d, y_lo)
+        except NotConvergedError:
+            hi = mid
+            continue
+        lo, y_lo = mid, y
+    t = pb.tests(y_lo)
+    kind = min(KINDS, key=lambda k: abs(t[k]) if math.isfinite(t[k]) else math.inf)
+    y, s = _polish(pb, kind, a_a, d, y_lo, lo)
+    return kind, y, s
+
+
+# ---------------------------------------------------------------------- tracing
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    ab = b - a
+    den = float(ab @ ab)
+    u = 0.0 if den == 0 else min(1.0, max(0.0, float((p - a) @ ab) / den))
+    return float(np.linalg.norm(p - (a + u * ab)))
+
+
+def _polyline_distance(p: np.ndarray, poly: np.ndarray, closed: bool) -> float:
+    if len(poly) == 1:
+        return float(np.linalg.norm(p - poly[0]))
+    a, b = poly[:-1], poly[1:]
+    if closed:
+        a, b = np.vstack([a, poly[-1:]]), np.vstack([b, poly[:1]])
+    ab = b - a
+    den = np.einsum("ij,ij->i", ab, ab)
+    u = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.where(den > 0, den, 1), 0, 1)
+    return float(np.min(np.linalg.norm(p - (a + u[:, None] * ab), axis=1)))
+
+
+@dataclass
+class _Half:
+    ys: list
+    end: str
+    end_y: np.ndarray | None = None
+    meetings: list = field(default_factory=list)
+
+
+def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: np.ndarray,
+                settings: Settings, tol: Tolerances, start: CurvePoint, boundary: tuple[str, float]) -> _Half:
+    """Continue from ``y0`` along ``t0`` until closed / box / boundary / branch / IM / stalled.
+
+    ``boundary = (kind_b, sign_b)``: the test function whose zero set is the mode's
+    workspace boundary and its sign inside the mode.  An interior curve (``kind ≠ kind_b``)
+    stops where ``T_b`` leaves ``sign_b``; along a boundary curve the sign changes of the
+    interior test function are *meeting points* (located, returned in ``meetings``: an
+    interior curve starts there).
+    """
+    problem = pb.curve(kind)
+    kind_b, sign_b = boundary
+    interior = _OTHER[kind_b]
+    out = [np.array(y0, float)]
+    prev = None
+    end, end_y, meetings = "steps", None, []
+    branch = TestFunction("branch", lambda yy, tt: _branch_test(problem, yy, tt))
+    b_prev = branch.f(y0, t0)
+    i_prev = pb.tests(y0)[interior]
+    try:
+        for point in continue_curve(problem, y0, t0, settings):
+            if prev is None:
+                prev = point
+                continue
+            a = pb.axes(point.y)
+            t = pb.tests(point.y)
+            if np.any(a < box[:, 0]) or np.any(a > box[:, 1]):
+                out.append(_onto_box(pb, problem, prev.y, point.y, box))
+                end = "box"
+                break
+            if t["im"] < tol.near_branch or not all(math.isfinite(t[k]) for k in KINDS):
+                end, end_y = "IM", point.y
+                out.append(point.y)
+                break
+            b_now = branch.f(point.y, point.t)
+            crossed = kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b
+            branched = b_now * b_prev < 0
+            if crossed or branched:
+                test = TestFunction(kind_b, lambda yy, tt: pb.tests(yy)[kind_b]) if crossed else branch
+                end = "boundary" if crossed else "branch"
+                if crossed and pb.tests(prev.y)[kind_b] * sign_b <= 0:
+                    end_y = prev.y  # started on the boundary and left the mode at once: nothing to add
+                    break
+                try:
+                    end_y = locate_sign_change(problem, test, prev, point).y
+                except (NotConvergedError, ValueError):
+                    end_y = prev.y
+                out.append(end_y)
+                break
+            if kind == kind_b and t[interior] * i_prev < 0:
+                test = TestFunction(interior, lambda yy, tt: pb.tests(yy)[interior])
+                try:
+                    meetings.append(locate_sign_change(problem, test, prev, point).y)
+                except (NotConvergedError, ValueError):
+                    pass
+            b_prev, i_prev = b_now, t[interior]
+            if point.s > 3 * settings.max_step and float(point.t @ start.t) > 0.5 and \
+                    _segment_distance(start.y, prev.y, point.y) <= 0.25 * float(np.linalg.norm(point.y - prev.y)):
+                end = "closed"
+                break
+            out.append(point.y)
+            prev = point
+    except SteppingError:
+        end = "stalled"
+    return _Half(out, end, end_y, meetings)
+
+
+def _branch_test(problem: _Curve, y: np.ndarray, t: np.ndarray) -> float:
+    """``det[H'(y); tᵀ]``: changes sign at a simple branch point of the continued curve.
+
+    Where the traced locus crosses another locus of the same equations (a fold curve
+    meeting the other leg's fold: the corner of the mode's workspace), the orientation of
+    the tangent relative to the curve's Jacobian flips.  Only for ``n − 1`` equations.
+    """
+    j = problem.jacobian(y)
+    if j.shape[0] != j.shape[1] - 1:
+        return 1.0
+    return float(np.linalg.det(np.vstack([j, t[None, :]])))
+
+
+def _onto_box(pb: _Problems, problem: _Curve, y_in: np.ndarray, y_out: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """The curve point on the box edge between ``y_in`` (inside) and ``y_out`` (outside)."""
+    a_in, a_out = pb.axes(y_in), pb.axes(y_out)
+    best, which, edge = 2.0, None, None
+    for k in range(2):
+        for side in (0, 1):
+            e = box[k, side]
+            if (a_out[k] - e) * (a_in[k] - e) < 0:
+                u = (e - a_in[k]) / (a_out[k] - a_in[k])
+                if u < best:
+                    best, which, edge = u, k, e
+    if which is None:
+        return y_in
+    guess = y_in + best * (y_out - y_in)
+
+    def on_edge(y, k=which, e=edge):
+        a, ja = pb._axes(y)
+        return np.array([float(a[k]) - e]), np.array(ja)[k:k + 1, :]
+
+    try:
+        return newton(problem, guess, extra=on_edge, tol=_NEWTON_TOL, max_iterations=30)[0]
+    except NotConvergedError:
+        return y_in
+
+
+def trace_locus(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray, settings: Settings,
+                tol: Tolerances = DEFAULT, boundary: tuple[str, float] = ("DKP-output", 1.0)
+                ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list]:
+    """Trace the locus ``kind`` through ``y0`` both ways.
+
+    Returns ``(ys, closed, ends, end points, meeting points)`` in ``y = q/ℓ`` (see
+    :func:`_trace_half` for ``boundary``).
+    """
+    problem = pb.curve(kind)
+    t0 = tangent(problem, y0)
+    start = CurvePoint(np.array(y0, float), t0, 0.0)
+    fwd = _trace_half(pb, kind, y0, t0, box, settings, tol, start, boundary)
+    if fwd.end == "closed":
+        return np.array(fwd.ys), True, ("closed",), [], fwd.meetings
+    bwd = _trace_half(pb, kind, y0, -t0, box, settings, tol, CurvePoint(start.y, -t0, 0.0), boundary)
+    ys = np.array(bwd.ys[:0:-1] + fwd.ys)
+    ends = (bwd.end, fwd.end)
+    return ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None], bwd.meetings + fwd.meetings
+
+
+def _boundary(grid: GridData, signs: list) -> tuple[str, float]:
+    """The test function whose zero set bounds the mode (no sign change on the grid) and its sign there.
+
+    In a workspace map the square problem is singular exactly where ``DKP-output``
+    vanishes, so that function keeps one sign over a mode and the mode ends where it
+    vanishes (a fold); in a joint-space map the same holds for ``DKP-input``.  When
+    neither changes sign on the grid, ``DKP-output`` (a workspace map) is assumed.
+    """
+    changing = {k for k, _, _ in signs}
+    asm = np.asarray(grid.assembled, bool)
+    for kind in ("DKP-output", "DKP-input"):
+        if kind in changing:
+            continue
+        v = np.asarray(getattr(grid, KINDS[kind]), float)[asm]
+        v = v[np.isfinite(v)]
+        if v.size:
+            return kind, float(np.sign(np.median(v))) or 1.0
+    return "DKP-output", 1.0
+
+
+# ---------------------------------------------------------------------- refine
+def _brackets(grid: GridData):
+    """Grid edges ``((j, i), (j2, i2))``: sign changes per kind, and assembled/unassembled pairs."""
+    asm = np.asarray(grid.assembled, bool)
+    ny, nx = asm.shape
+    signs, folds = [], []
+    for dj, di in ((0, 1), (1, 0)):
+        a = (slice(0, ny - dj), slice(0, nx - di))
+        b = (slice(dj, ny), slice(di, nx))
+        for kind, arr in (("DKP-input", grid.dkp_input), ("DKP-output", grid.dkp_output)):
+            if arr is None:
+                continue
+            v = np.asarray(arr, float)
+            with np.errstate(invalid="ignore"):
+                hit = asm[a] & asm[b] & (np.sign(v[a]) * np.sign(v[b]) < 0)
+            for j, i in zip(*np.nonzero(hit)):
+                signs.append((kind, (j, i), (j + dj, i + di)))
+        for j, i in zip(*np.nonzero(asm[a] != asm[b])):
+            pa, pb_ = (j, i), (j + dj, i + di)
+            folds.append((pa, pb_) if asm[pa] else (pb_, pa))
+    return signs, folds
+
+
+def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAULT, box=None,
+           settings: Settings | None = None) -> tuple[list[Curve], list[SingularPoint], RefineStats]:
+    """Locate and trace a mode's singular curves from its grid (see the module docstring).
+
+    Parameters
+    ----------
+    system : LocusSystem or an object with its attributes
+    grid : GridData
+    mode : any
+        The mode's id, copied into the results.
+    tolerances : Tolerances
+        ``near_branch`` stops a curve near IM; ``rank`` classifies end points (core).
+    box : ((x_lo, x_hi), (y_lo, y_hi)), optional
+        In axis values; default the grid's extent.
+    settings : continuation Settings, optional
+        Default: steps of half a cell, at most two cells (dimensionless).
+
+    Returns
+    -------
+    curves : list of Curve
+    points : list of SingularPoint
+    stats : RefineStats
+    """
+    sys_ = LocusSystem.of(system)
+    pb = _Problems(sys_)
+    tol = Tolerances.of(tolerances)
+    scale = np.array(sys_.axis_scale, float)
+    if box is None:
+        box = ((float(np.min(grid.xs)), float(np.max(grid.xs))), (float(np.min(grid.ys)), float(np.max(grid.ys))))
+    box_d = np.array(box, float) / scale[:, None]
+    cell = min(abs(float(np.diff(grid.xs).min())) / scale[0], abs(float(np.diff(grid.ys).min())) / scale[1])
+    if settings is None:
+        settings = Settings(step=0.5 * cell, max_step=2.0 * cell, min_step=1e-6 * cell)
+    stats = RefineStats()
+    curves: list[Curve] = []
+    traced: list = []  # (kind, ys, closed, dimensionless axis points)
+    points: list[SingularPoint] = []
+    dup_radius = 1.5 * cell
+
+    def on_traced(kind, y, radius):
+        return any(k == kind and _polyline_distance(y, ys, c) <= radius for k, ys, c, _ in traced)
+
+    def near_traced(kinds, a):
+        """Pre-check on the grid: the bracket's axis point within ``dup_radius`` of a traced curve."""
+        return any(k in kinds and _polyline_distance(a, ax, c) <= dup_radius for k, _, c, ax in traced)
+
+    def dim_axes(j, i):
+        return grid.at(j, i) / scale
+
+    def take(kind, y):
+        before = pb.counter.n
+        ys, closed, ends, end_ys, meets = trace_locus(pb, kind, y, box_d, settings, tol, boundary)
+        seeds.extend(meets)
+        end_ys = end_ys + meets
+        stats.trace_evaluations += pb.counter.n - before
+        stats.traced_points += len(ys)
+        ax = np.array([pb.axes(v) for v in ys])
+        traced.append((kind, ys, closed, ax))
+        pts = ax * scale
+        qs = ys * pb.scale
+        curves.append(Curve(kind, mode, closed, pts, qs, ends, pb.counter.n - before))
+        for ye in end_ys:
+            _add_point(points, pb, sys_, ye, mode, scale, tol)
+
+    signs, folds = _brackets(grid)
+    stats.crossings, stats.folds = len(signs), len(folds)
+    boundary = _boundary(grid, signs)
+    seeds: list = []  # meeting points found along boundary curves: interior curves start there
+    for kind, pa, pb_ in signs:
+        qa, qb = grid.config(*pa), grid.config(*pb_)
+        if qa is None or qb is None:
+            continue
+        ya, yb = qa / pb.scale, qb / pb.scale
+        if near_traced((kind,), 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
+            stats.duplicates += 1
+            continue
+        before = pb.counter.n
+        try:
+            y, _ = locate_crossing(pb, kind, dim_axes(*pa), ya, dim_axes(*pb_), yb)
+        except (NotConvergedError, ValueError):
+            stats.failed += 1
+            continue
+        stats.locate_evaluations += pb.counter.n - before
+        stats.located += 1
+        if on_traced(kind, y, 0.5 * settings.max_step):
+            stats.duplicates += 1
+            continue
+        take(kind, y)
+    for pa, pb_ in folds:
+        qa = grid.config(*pa)
+        if qa is None:
+            continue
+        ya = qa / pb.scale
+        if near_traced(KINDS, 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
+            stats.duplicates += 1
+            continue
+        before = pb.counter.n
+        try:
+            kind, y, s = locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_))
+        except NotConvergedError:
+            stats.failed += 1
+            continue
+        stats.locate_evaluations += pb.counter.n - before
+        stats.located += 1
+        if on_traced(kind, y, 0.5 * settings.max_step):
+            stats.duplicates += 1
+            continue
+        take(kind, y)
+    interior = _OTHER[boundary[0]]
+    while seeds:
+        y = seeds.pop(0)
+        if on_traced(interior, y, 0.5 * settings.max_step):
+            stats.duplicates += 1
+            continue
+        stats.seeded += 1
+        take(interior, y)
+    return curves, points, stats
+
+
+def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, mode, scale, tol) -> None:
+    """Classify the configuration ``y`` with the core and record it (merged with a point already there)."""
+    q = y * pb.scale
+    at = pb.axes(y) * scale
+    for p in points:
+        if np.linalg.norm((p.configuration - q) / pb.scale) <= 1e3 * tol.same_configuration:
+            return
+    res = system.evaluators.indicators_at(q, tol)
+    types = tuple(name for name, flag in (("IM", res["im"]), ("DKP-input", res["is_dkp_input"]),
+                                           ("DKP-output", res["is_dkp_output"])) if flag)
+    kind = "IM" if "IM" in types else ("meeting" if len(types) >= 2 else (types[0] if types else "end"))
+    points.append(SingularPoint(kind, mode, at, types, q))

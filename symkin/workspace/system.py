@@ -1,0 +1,449 @@
+"""The position problem of a singularity map: two axis coordinates and the held ones fix the mechanism.
+
+A map (paper §VI, Figs. 14-16) sweeps two position-level coordinates, the *axes*, over a
+box; with mobility ``F > 2`` the ``F − 2`` *held* coordinates are fixed at values (default:
+the model's).  At a grid point ``(x, y)`` the configuration ``q`` (the ``nf`` free nodal
+coordinates, in the order of ``symkin.evaluators(mech).q_labels``) solves the square system
+
+.. math::  S(q; x, y, h) = [\\,Φ_S(q)/ℓ;\\; (c(q) − h)/s_c;\\; (a(q) − (x, y))/s_a\\,] = 0
+
+with ``Φ_S`` the ``nf − F`` independent rows of the evaluators' closure (the same closure
+paths use; rows ``basis_rows`` of the evaluators, chosen once), ``c`` the held coordinates,
+``a`` the two axis coordinates, ``ℓ`` the model's length scale and ``s = ℓ`` for lengths,
+``1`` for angles: every row is dimensionless, so a model in millimetres and in metres
+solves the same system.  ``nf`` unknowns, ``(nf − F) + (F − 2) + 2 = nf`` equations.
+
+Coordinates (labels as :func:`symkin.paths.coordinates.parse_input_label` takes them) are
+**absolute**, in internal units (model lengths, radians):
+
+* ``velocity:P.x`` — the node's coordinate;
+* ``rotation:L`` (planar) — the direction of link L's first node → second node from +x,
+  continuous on ``(θ₀ − π, θ₀ + π]`` around its model value ``θ₀``;
+* ``slide:S`` — the slider node's position along its line from the line's point (fixed
+  line) or from the line's first node (moving line);
+* anything else a path accepts (joint angles, spatial rotations about a fixed axis) —
+  measured from the model's configuration.
+
+User-facing values (axis ranges, hold values, the map's axes) are in the map's ``unit``
+for angles (``"deg"`` by default, or ``"rad"``) and model units for lengths;
+:meth:`MapSystem.to_internal` / :meth:`MapSystem.to_user` convert.
+
+API for the other workspace modules (``grid``, ``loci``, ``maps``)
+-----------------------------------------------------------------
+``system = map_system(mech, x, y, hold=(), unit="deg", tolerances=None)`` → :class:`MapSystem`.
+``hold`` is a sequence of labels or ``(label, value)`` pairs (value in the user unit; None:
+the model's).  Errors (:class:`symkin.errors.SymkinError`): a label naming nothing, the same
+coordinate twice, F < 2, a number of holds that does not square the problem (the message
+names what is missing), axes + holds that do not fix the mechanism.
+
+CasADi Functions in ``system.functions`` (all take column vectors; ``N`` configurations
+through ``Function.map`` or :meth:`MapSystem.evaluate`):
+
+``square``       ``(q[nf], target[F])`` → ``S[nf]``, ``dS_dq[nf×nf]``; ``target = [x, y, h…]``
+                 in internal units (:meth:`MapSystem.targets` builds it).
+``constraints``  ``(q[nf], h[F−2])`` → ``C[nf−2]``, ``dC_dq[(nf−2)×nf]``: closure and holds, the
+                 axes free — the 2-D solution surface on which ``loci`` traces a curve by adding
+                 one test function (closure + test function = 0).
+``axes``         ``q`` → ``a[2]``, ``da_dq[2×nf]`` (internal units).
+``holds``        ``q`` → ``c[F−2]`` (internal units).
+
+Methods: :meth:`~MapSystem.solve` (batched Newton, ``(q_start[N,nf], xy[N,2]) → (q, converged,
+residual, iterations)``), :meth:`~MapSystem.axis_values` (``q[N,nf] → [N,2]``),
+:meth:`~MapSystem.evaluate` (any Function above at N points), :attr:`~MapSystem.q0`.
+Indicators at solved configurations come from ``system.evaluators.batch(q)`` (the one
+analysis core); nothing here decides a singularity.
+
+Examples
+--------
+>>> from symkin.model.catalogue import get
+>>> s = map_system(get("five_bar"), "velocity:P.x", "velocity:P.y")
+>>> s.nf, s.mobility, [a.label for a in s.axes], s.axis_values(s.q0[None]).tolist()
+(6, 2, ['velocity:P.x', 'velocity:P.y'], [[0.0, 2.0]])
+>>> q, ok, res, _ = s.solve(s.q0[None], [[0.3, 2.2]])
+>>> ok.tolist(), s.axis_values(q).round(12).tolist()
+([True], [[0.3, 2.2]])
+>>> bool(abs(s.evaluators("closure", q[0])["phi"]).max() < 1e-12)
+True
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from symkin.analysis.batch import Evaluators, evaluators_for
+from symkin.errors import SymkinError
+from symkin.model.mechanism import AXES, Mechanism
+from symkin.numeric.linalg import independent_rows
+from symkin.paths.coordinates import InputCoordinate, accepted_input_labels, parse_input_label
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["MapCoordinate", "MapSystem", "map_system", "parse_hold", "UNITS", "NEWTON_TOL", "NEWTON_ITER"]
+
+#: angle units a map accepts, with their factor to radians
+UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
+#: Newton converges when the dimensionless residual ``max |S|`` is at most this (lengths / ℓ)
+NEWTON_TOL = 1e-11
+#: Newton iterations before a grid point counts as not reached
+NEWTON_ITER = 12
+
+
+@dataclass(frozen=True)
+class MapCoordinate:
+    """One absolute coordinate of a map (an axis or a held coordinate).
+
+    ``coordinate`` is the path coordinate it is built on (relative to the model's
+    configuration); ``offset`` its absolute value there, so that the absolute value is
+    ``offset + coordinate`` (internal units: model lengths, radians).  ``kind`` is
+    ``"angle"`` or ``"length"``.
+    """
+
+    label: str
+    kind: str
+    coordinate: InputCoordinate
+    offset: float
+
+    def expression(self, mech: Mechanism, x, x0: np.ndarray):
+        """CasADi expression of the absolute value; ``x`` all nodal coordinates (column)."""
+        return self.offset + self.coordinate.expression(mech, x, x0)
+
+    def scale(self, length_scale: float) -> float:
+        """What the residual row of this coordinate is divided by (``ℓ`` for lengths, 1 for angles)."""
+        return length_scale if self.kind == "length" else 1.0
+
+
+def _offset(mech: Mechanism, c: InputCoordinate, x0: np.ndarray) -> float:
+    """Absolute value of ``c`` at the model's configuration (0 for relative-only coordinates)."""
+    p = c.parameter
+    if p.kind == "rotation" and mech.dim == 2:
+        return float(c.absolute(mech, x0))
+    if p.kind == "velocity":
+        i = mech.node_index()[p.target[0]]
+        axis = AXES.index(p.component) if p.component else c.component
+        return float(x0[i, axis])
+    if p.kind == "slide":
+        s = mech.slider(p.target[0])
+        idx = mech.node_index()
+        k = idx[s.node]
+        if s.kind == "moving_line":
+            a, b = idx[s.line[0]], idx[s.line[1]]
+            u = x0[b] - x0[a]
+            return float((x0[k] - x0[a]) @ (u / np.linalg.norm(u)))
+        d = np.asarray(s.direction, float)
+        point = np.asarray(s.point if s.point is not None else x0[k], float)
+        return float((x0[k] - point) @ (d / np.linalg.norm(d)))
+    return 0.0
+
+
+def map_coordinate(mech: Mechanism, label: str) -> MapCoordinate:
+    """The absolute map coordinate named ``label``; a :class:`SymkinError` listing what is accepted."""
+    c = parse_input_label(mech, label)
+    x0 = np.array([v for _, v in mech.nodes], dtype=float)
+    return MapCoordinate(c.label, c.kind, c, _offset(mech, c, x0))
+
+
+def parse_hold(text: str) -> tuple[str, float | None]:
+    """``"LABEL[=VALUE]"`` → ``(label, value or None)`` (the value in the user unit).
+
+    >>> parse_hold("rotation:platform=30"), parse_hold("rotation:platform")
+    (('rotation:platform', 30.0), ('rotation:platform', None))
+    """
+    label, eq, value = str(text).partition("=")
+    label = label.strip()
+    if not label:
+        raise SymkinError(f"--hold {text!r}: no label (expected LABEL or LABEL=VALUE)")
+    if not eq:
+        return label, None
+    try:
+        return label, float(value)
+    except ValueError:
+        raise SymkinError(f"--hold {text!r}: {value!r} is not a number") from None
+
+
+def _holds_needed_text(mech: Mechanism, used: set[str]) -> str:
+    a = accepted_input_labels(mech)
+    candidates = [lab for lab in a["inputs"] + a["outputs"] if lab not in used]
+    return f" (e.g. {', '.join(candidates)})" if candidates else ""
+
+
+@dataclass(eq=False)
+class MapSystem:
+    """The square position problem of a map (see the module docstring for the API).
+
+    Build it with :func:`map_system`.  Attributes: ``mech``, ``evaluators`` (shared,
+    :func:`symkin.analysis.batch.evaluators_for`), ``axes`` (two :class:`MapCoordinate`),
+    ``holds`` (``F − 2`` of them), ``hold_values`` (internal units), ``unit``, ``rows`` (the
+    closure rows kept, indices into the evaluators' ``phi``), ``functions`` (CasADi).
+    """
+
+    mech: Mechanism
+    axes: tuple[MapCoordinate, MapCoordinate]
+    holds: tuple[MapCoordinate, ...]
+    hold_values: np.ndarray
+    unit: str = "deg"
+    tolerances: Tolerances = DEFAULT
+    evaluators: Evaluators = field(init=False, repr=False)
+    rows: tuple[int, ...] = field(init=False)
+    functions: dict = field(init=False, repr=False)
+
+    def __post_init__(self):
+        self.evaluators = evaluators_for(self.mech)
+        ev = self.evaluators
+        m = ev.model
+        scale = self.mech.length_scale
+        f, nf = ev.mobility, ev.nf
+        q = ca.SX.sym("q", nf)
+        x = ca.substitute(m.x, m.q, q)
+        phi = ca.substitute(m.closure, m.q, q)
+        if m.p.numel():
+            phi = ca.substitute(phi, m.p, ca.DM(m.p0))
+        self.rows = self._closure_rows(phi, q, nf - f)
+        phi_s = phi[list(self.rows)] / scale if self.rows else ca.SX(0, 1)
+        x0 = np.array([c for _, c in self.mech.nodes], dtype=float)
+        a = ca.vertcat(*[c.expression(self.mech, x, x0) for c in self.axes])
+        c = ca.vertcat(*[c.expression(self.mech, x, x0) for c in self.holds]) if self.holds else ca.SX(0, 1)
+        sa = ca.DM([k.scale(scale) for k in self.axes])
+        sc = ca.DM([k.scale(scale) for k in self.holds]) if self.holds else ca.DM(0, 1)
+        target = ca.SX.sym("target", f)
+        h = ca.SX.sym("h", len(self.holds))
+        held = (c - target[2:]) / sc if self.holds else ca.SX(0, 1)
+        s = ca.vertcat(phi_s, held, (a - target[:2]) / sa)
+        cons = ca.vertcat(phi_s, (c - h) / sc if self.holds else ca.SX(0, 1))
+        self.functions = {
+            "square": ca.Function("map_square", [q, target], [s, ca.jacobian(s, q)], ["q", "target"],
+                                  ["S", "dS_dq"]),
+            "constraints": ca.Function("map_constraints", [q, h], [cons, ca.jacobian(cons, q)], ["q", "h"],
+                                       ["C", "dC_dq"]),
+            "axes": ca.Function("map_axes", [q], [a, ca.jacobian(a, q)], ["q"], ["a", "da_dq"]),
+            "holds": ca.Function("map_holds", [q], [c], ["q"], ["c"]),
+        }
+        self._maps: dict = {}
+        self._check_independent()
+
+    # ------------------------------------------------------------------ set-up
+    def _closure_rows(self, phi, q, count: int) -> tuple[int, ...]:
+        """The evaluators' independent rows ``J_S``, else rows chosen here at the model's configuration."""
+        ev = self.evaluators
+        if count <= 0:
+            return ()
+        if ev.basis_rows and len(ev.basis_rows) == count:
+            return tuple(ev.basis_rows)
+        jac = np.array(ca.Function("j", [q], [ca.jacobian(phi, q)])(ev.q0))
+        rows = independent_rows(jac, self.tolerances.rank, count)
+        if len(rows) < count:
+            raise SymkinError(f"{self.mech.name}: the closure has rank {len(rows)} at the model's configuration, "
+                              f"not nf - F = {count}; a map needs the generic mobility")
+        return rows
+
+    def _check_independent(self) -> None:
+        """Axes and holds must fix the mechanism: ``dS/dq`` regular at the model's configuration or near it."""
+        q0 = self.q0
+        t0 = self.targets(self.axis_values(q0[None])[0][None])[0]
+        if self._regular(q0, t0):
+            return
+        rng = np.random.default_rng(0)
+        q1 = q0 + 1e-2 * self.mech.length_scale * rng.standard_normal(q0.size)
+        try:
+            q1 = self.evaluators.project(q1)
+        except SymkinError:
+            q1 = None
+        if q1 is not None and self._regular(q1, self.targets(self.axis_values(q1[None]))[0]):
+            return
+        names = ", ".join(c.label for c in self.axes + self.holds)
+        raise SymkinError(f"{self.mech.name}: the axes and holds ({names}) do not fix the mechanism: they are "
+                          "not independent coordinates of its configuration (the position problem is singular)")
+
+    def _regular(self, q: np.ndarray, target: np.ndarray) -> bool:
+        jac = np.array(self.functions["square"](q, target)[1])
+        rows = independent_rows(jac, self.tolerances.rank)
+        return len(rows) == self.nf
+
+    # ------------------------------------------------------------------ sizes and units
+    @property
+    def nf(self) -> int:
+        return self.evaluators.nf
+
+    @property
+    def mobility(self) -> int:
+        return self.evaluators.mobility
+
+    @property
+    def q0(self) -> np.ndarray:
+        """Free coordinates of the model's configuration."""
+        return np.asarray(self.evaluators.q0, dtype=float).ravel()
+
+    @property
+    def labels(self) -> tuple[str, str]:
+        return self.axes[0].label, self.axes[1].label
+
+    def _factors(self, coords) -> np.ndarray:
+        return np.array([UNITS[self.unit] if c.kind == "angle" else 1.0 for c in coords])
+
+    def to_internal(self, values, which: str = "axes") -> np.ndarray:
+        """User-unit values of the axes (``which="axes"``, last axis of size 2) or holds → internal units."""
+        coords = self.axes if which == "axes" else self.holds
+        return np.asarray(values, dtype=float) * self._factors(coords)
+
+    def to_user(self, values, which: str = "axes") -> np.ndarray:
+        """Internal values (radians, model lengths) → the user's unit (inverse of :meth:`to_internal`)."""
+        coords = self.axes if which == "axes" else self.holds
+        return np.asarray(values, dtype=float) / self._factors(coords)
+
+    def targets(self, xy) -> np.ndarray:
+        """``[x, y, h…]`` rows (N, F) for axis values ``xy`` (N, 2), internal units."""
+        xy = np.atleast_2d(np.asarray(xy, dtype=float))
+        return np.hstack([xy, np.broadcast_to(self.hold_values, (xy.shape[0], len(self.holds)))])
+
+    # ------------------------------------------------------------------ batched evaluation
+    def evaluate(self, name: str, *args) -> list[np.ndarray]:
+        """Function ``name`` at N points: ``args`` are (N, size) arrays (or one shared 1-D vector).
+
+        Returns the outputs as arrays of shape ``(N, rows)`` (vectors) or ``(N, rows, cols)``.
+        """
+        f = self.functions[name]
+        n = max(np.atleast_2d(a).shape[0] if np.ndim(a) == 2 else 1 for a in args)
+        key = (name, n)
+        fm = self._maps.get(key)
+        if fm is None:
+            fm = f if n == 1 else f.map(n, "serial")
+            self._maps[key] = fm
+        cols = []
+        for a in args:
+            a = np.asarray(a, dtype=float)
+            cols.append(ca.DM(a.T) if a.ndim == 2 else ca.repmat(ca.DM(a), 1, n))
+        outs = fm(*cols)
+        outs = outs if isinstance(outs, (list, tuple)) else [outs]
+        result = []
+        for i, o in enumerate(outs):
+            r, c = f.size_out(i)
+            arr = np.array(o)
+            result.append(arr.T.reshape(n, r) if c == 1 else arr.reshape(r, n, c).transpose(1, 0, 2))
+        return result
+
+    def axis_values(self, q) -> np.ndarray:
+        """Axis values (N, 2) of configurations ``q`` (N, nf), internal units."""
+        return self.evaluate("axes", np.atleast_2d(q))[0]
+
+    def solve(self, q_start, xy, tol: float = NEWTON_TOL, max_iter: int = NEWTON_ITER):
+        """Batched Newton on :math:`S(q; x, y, h) = 0` from ``q_start`` (N, nf) to axis values ``xy`` (N, 2).
+
+        Parameters
+        ----------
+        q_start : array (N, nf)
+            Starting configurations (a neighbouring solved grid point, or a predictor).
+        xy : array (N, 2)
+            Axis values, internal units (radians, model lengths).
+        tol : float
+            Converged when the dimensionless residual ``max |S| <= tol``.
+        max_iter : int
+            Newton iterations at most; a point not converged by then, or whose step is not
+            finite (singular position problem), is reported as not converged.
+
+        Returns
+        -------
+        q : (N, nf) solved configurations (the last iterate where not converged),
+        converged : (N,) bool, residual : (N,) ``max |S|``, iterations : (N,) int.
+        """
+        q = np.array(np.atleast_2d(q_start), dtype=float)
+        t = self.targets(xy)
+        n = q.shape[0]
+        if t.shape[0] != n:
+            raise ValueError("one row of xy per starting configuration")
+        converged = np.zeros(n, bool)
+        residual = np.full(n, np.inf)
+        iterations = np.zeros(n, int)
+        active = np.arange(n)
+        for it in range(max_iter + 1):
+            if active.size == 0:
+                break
+            s, jac = self.evaluate("square", q[active], t[active])
+            err = np.max(np.abs(s), axis=1) if s.size else np.zeros(active.size)
+            residual[active] = err
+            done = err <= tol
+            converged[active[done]] = True
+            iterations[active[done]] = it
+            keep = ~done & np.isfinite(err)
+            active, s, jac = active[keep], s[keep], jac[keep]
+            if active.size == 0 or it == max_iter:
+                break
+            step = _solve_stacked(jac, s)
+            ok = np.all(np.isfinite(step), axis=1)
+            q[active[ok]] -= step[ok]
+            iterations[active] = it + 1
+            active = active[ok]
+        return q, converged, residual, iterations
+
+
+def _solve_stacked(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a⁻¹ b`` for stacked square systems; NaN rows where ``a`` is singular."""
+    try:
+        return np.linalg.solve(a, b[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        out = np.full(b.shape, np.nan)
+        for k in range(a.shape[0]):
+            try:
+                out[k] = np.linalg.solve(a[k], b[k])
+            except np.linalg.LinAlgError:
+                pass
+        return out
+
+
+def map_system(mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg",
+               tolerances: Tolerances | float | None = None) -> MapSystem:
+    """The position problem of a map of ``mech`` over axes ``x`` and ``y`` (labels).
+
+    Parameters
+    ----------
+    mech : Mechanism
+    x, y : str
+        Axis labels (``velocity:P.x``, ``rotation:L``, ``slide:S``, or any label
+        ``symkin path --input`` takes).
+    hold : sequence of str or (str, float | None)
+        The ``F − 2`` held coordinates: labels (held at the model's value), ``"LABEL=VALUE"``
+        strings, or ``(label, value)`` pairs, values in ``unit`` for angles.
+    unit : ``"deg"`` or ``"rad"``
+        Unit of angle values given by the user (axes ranges, hold values).
+    tolerances : Tolerances or float, optional
+        The rank tolerance used for the independence checks.
+
+    Raises
+    ------
+    SymkinError
+        Unknown label, a coordinate named twice, F < 2, holds that do not square the
+        problem (the message says how many and suggests labels), or axes and holds that
+        do not fix the mechanism.
+    """
+    if unit not in UNITS:
+        raise SymkinError(f"unknown angle unit {unit!r}; use one of {', '.join(UNITS)}")
+    tol = Tolerances.of(tolerances)
+    f = mech.mobility_value
+    if f < 2:
+        raise SymkinError(f"{mech.name}: mobility F = {f}; a map needs F >= 2 (two axis coordinates), "
+                          "use symkin path for F = 1")
+    axes = (map_coordinate(mech, x), map_coordinate(mech, y))
+    pairs = [parse_hold(h) if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1]))
+             for h in hold]
+    holds = tuple(map_coordinate(mech, label) for label, _ in pairs)
+    seen: dict[str, str] = {}
+    for c in axes + holds:
+        if c.label in seen:
+            raise SymkinError(f"{c.label} is named twice (as axis or hold); each coordinate can be fixed once")
+        seen[c.label] = c.label
+    need = f - 2
+    if len(holds) != need:
+        used = {c.label for c in axes + holds}
+        if len(holds) < need:
+            raise SymkinError(f"{mech.name}: F = {f}, so 2 axes need {need} held coordinate(s) to make the "
+                              f"position problem square; {len(holds)} given: add {need - len(holds)} "
+                              f"--hold LABEL[=VALUE]{_holds_needed_text(mech, used)}")
+        raise SymkinError(f"{mech.name}: F = {f}, so 2 axes need {need} held coordinate(s); {len(holds)} given "
+                          f"({', '.join(c.label for c in holds)}): the position problem is over-determined")
+    values = []
+    for c, (_, v) in zip(holds, pairs):
+        if v is None:
+            values.append(c.offset)  # the model's value
+        else:
+            values.append(v * (UNITS[unit] if c.kind == "angle" else 1.0))
+    return MapSystem(mech, axes, holds, np.array(values, dtype=float), unit=unit, tolerances=tol)
