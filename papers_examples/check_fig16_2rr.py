@@ -18,10 +18,12 @@ the coordinates alone:
 - zone B: stretched legs, |P − A_i| = 2l: DKP in the output with the relation (P − A_i)·v_P = 0,
   and the DKP-output test function going to zero like the square root of the distance.
 Asserted with the map (``symkin.workspace_map``, skipped with a warning until it exists): the
-DKP-input test function changes sign on the grid across y = 4 on x = 0, and only next to the
-type-2 locus; the DKP-output function is smallest next to the mode's workspace boundary; the
-refined DKP-input curves lie on the closed-form locus and one passes through (0, 4); the
-DKP-output curves lie on the circles |P − A_i| = 10.
+mode assembles exactly where both legs reach; the DKP-input test function changes sign on the
+grid across y = 4 on x = 0, and only next to the closed-form type-2 locus (zone A); the
+DKP-output function is smallest next to the mode's workspace boundary (zone B); the refined
+DKP-input curve lies on the closed-form locus, passes through (0, 4) and ends where the locus
+meets the edge of the area; the DKP-output curves lie on the circles |P − A_i| = 10 and meet at
+(0, √96).
 """
 from __future__ import annotations
 
@@ -178,14 +180,21 @@ def check() -> Checklist:
 
 
 def type2_residual(xs, ys) -> np.ndarray:
-    """(P − B1) × (P − B2) / l² over a grid of the file's mode (NaN where it does not assemble)."""
-    out = np.full((len(xs), len(ys)), np.nan)
-    for i, x in enumerate(xs):
-        for j, y in enumerate(ys):
+    """(P − B1) × (P − B2) / l² on the (ny, nx) grid of the file's mode (NaN where it does not assemble)."""
+    out = np.full((len(ys), len(xs)), np.nan)
+    for j, y in enumerate(ys):
+        for i, x in enumerate(xs):
             b1, b2 = elbow(A1, (x, y), MODE[0]), elbow(A2, (x, y), MODE[1])
             if b1 is not None and b2 is not None:
-                out[i, j] = _cross(np.array([x, y]) - b1, np.array([x, y]) - b2) / L_LINK ** 2
+                out[j, i] = _cross(np.array([x, y]) - b1, np.array([x, y]) - b2) / L_LINK ** 2
     return out
+
+
+def _neighbour_pairs(shape):
+    """Index pairs (a, b) of horizontally and vertically adjacent grid points."""
+    ny, nx = shape
+    return [((slice(0, ny), slice(0, nx - 1)), (slice(0, ny), slice(1, nx))),
+            ((slice(0, ny - 1), slice(0, nx)), (slice(1, ny), slice(0, nx)))]
 
 
 def _map_claims(c: Checklist, mech) -> None:
@@ -195,55 +204,81 @@ def _map_claims(c: Checklist, mech) -> None:
         return
     wmap = symkin.workspace_map(mech, x=f"velocity:P.x={X_AREA[0]}:{X_AREA[1]}",
                                 y=f"velocity:P.y={Y_AREA[0]}:{Y_AREA[1]}", n=N_GRID, modes="model", refine=True)
-    g = wmap.grids[0]
-    xs, ys = np.asarray(g.xs), np.asarray(g.ys)
-    ok = np.asarray(g.assembled, dtype=bool)
-    din, dout = np.asarray(g.dkp_input), np.asarray(g.dkp_output)
-    i0 = int(np.argmin(np.abs(xs)))
-    col = din[i0]
-    flips = [j for j in range(len(ys) - 1) if ok[i0, j] and ok[i0, j + 1] and col[j] * col[j + 1] < 0]
-    c.true("map, zone A: on x = 0 the DKP-input function changes sign once, between grid rows around y = 4",
-           len(flips) == 1 and ys[flips[0]] <= 4.0 <= ys[flips[0] + 1], [(ys[j], ys[j + 1]) for j in flips])
-    # every sign change on the grid brackets the closed-form locus (the residual changes sign too)
+    mode = wmap.modes[0]
+    xs, ys = np.asarray(wmap.xs), np.asarray(wmap.ys)
+    ok = np.asarray(mode.assembled, dtype=bool)                 # (ny, nx)
+    din, dout = np.asarray(mode.dkp_input), np.asarray(mode.dkp_output)
     truth = type2_residual(xs, ys)
-    bad = 0
-    for di, dj in ((1, 0), (0, 1)):
-        a = (slice(0, len(xs) - di), slice(0, len(ys) - dj))
-        b = (slice(di, len(xs)), slice(dj, len(ys)))
-        both = ok[a] & ok[b]
-        flip = both & (din[a] * din[b] < 0)
-        bad += int(np.sum(flip & ~(truth[a] * truth[b] < 0)))
-    c.equal("map, zone A: every sign change of the DKP-input function on the grid brackets the closed-form locus",
-            bad, 0)
-    # zone B: the DKP-output function is smallest next to the mode's workspace boundary
-    interior = ok.copy()
-    interior[1:-1, 1:-1] &= ok[:-2, 1:-1] & ok[2:, 1:-1] & ok[1:-1, :-2] & ok[1:-1, 2:]
-    edge = ok & ~interior
-    edge[[0, -1], :] = False
-    edge[:, [0, -1]] = False
-    edge &= ok  # assembled points with an unassembled neighbour: zone B
-    c.true("map, zone B: the smallest |DKP-output| on the grid is next to the workspace boundary",
-           float(np.min(np.abs(dout[edge]))) < float(np.min(np.abs(dout[interior & ok]))),
-           (float(np.min(np.abs(dout[edge]))), float(np.min(np.abs(dout[interior & ok])))))
+    c.equal("map: the mode assembles exactly where both legs reach (|P − A_i| ≤ 10)", bool(np.all(ok == np.isfinite(truth))),
+            True)
+    # zone A, Fig. 16(b): the sign change of the DKP-input function at the linkage of Fig. 16(a)
+    i0 = int(np.argmin(np.abs(xs)))
+    col = din[:, i0]
+    flips = [j for j in range(len(ys) - 1) if ok[j, i0] and ok[j + 1, i0] and col[j] * col[j + 1] < 0]
+    c.true("map, zone A: on x = 0 the DKP-input function changes sign once, between the grid rows around y = 4",
+           len(flips) == 1 and ys[flips[0]] <= 4.0 <= ys[flips[0] + 1], [(ys[j], ys[j + 1]) for j in flips])
+    wrong = flips_on_grid = 0
+    for a, b in _neighbour_pairs(ok.shape):
+        flip = ok[a] & ok[b] & (din[a] * din[b] < 0)
+        flips_on_grid += int(flip.sum())
+        wrong += int(np.sum(flip & ~(truth[a] * truth[b] < 0)))
+    c.true("map, zone A: the DKP-input function changes sign on the grid (the zone is crossed)", flips_on_grid > 10,
+           flips_on_grid)
+    c.equal("map, zone A: every sign change on the grid brackets the closed-form type-2 locus", wrong, 0)
+    # zone B, Fig. 16(c): the DKP-output function is smallest next to the mode's workspace boundary
+    inner = ok.copy()
+    inner[1:-1, 1:-1] &= ok[:-2, 1:-1] & ok[2:, 1:-1] & ok[1:-1, :-2] & ok[1:-1, 2:]
+    rim = ok & ~inner
+    rim[[0, -1], :] = False
+    rim[:, [0, -1]] = False
+    lo_rim, lo_inner = float(np.min(np.abs(dout[rim]))), float(np.min(np.abs(dout[inner])))
+    c.true("map, zone B: the smallest |DKP-output| is at the grid points next to the boundary |P − A_i| = 10",
+           lo_rim < lo_inner, (lo_rim, lo_inner))
+    # the refined curves
     curves = wmap.to_dict()["curves"]
     ins = [np.asarray(cv["points"]) for cv in curves if cv["kind"] == "DKP-input"]
     outs = [np.asarray(cv["points"]) for cv in curves if cv["kind"] == "DKP-output"]
-    c.true("map: refined DKP-input and DKP-output curves exist", bool(ins) and bool(outs), (len(ins), len(outs)))
+    c.true("map: refined DKP-input (zone A) and DKP-output (zone B) curves exist", bool(ins) and bool(outs),
+           (len(ins), len(outs)))
     if ins:
         worst = max(float(np.max(np.abs(_type2_on(pts)))) for pts in ins)
-        c.close("map: every DKP-input curve point is on the closed-form type-2 locus", worst, 0.0, tol=1e-9)
-        gap = min(float(np.min(np.hypot(pts[:, 0], pts[:, 1] - 4.0))) for pts in ins)
-        c.true("map: a DKP-input curve passes through P = (0, 4) (closest point within one grid step)",
-               gap < (Y_AREA[1] - Y_AREA[0]) / (N_GRID - 1), gap)
+        c.close("map: every point of the DKP-input curves is on the closed-form type-2 locus", worst, 0.0, tol=1e-9)
+        gap = min(float(np.min(np.abs(pts[:, 1] - 4.0) + np.abs(pts[:, 0]))) for pts in ins)
+        on_axis = [pts[np.argmin(np.abs(pts[:, 0]))] for pts in ins]
+        c.true("map: a DKP-input curve passes through the linkage of Fig. 16(a), P = (0, 4) (closest point)",
+               gap < (Y_AREA[1] - Y_AREA[0]) / (N_GRID - 1), on_axis)
+        ends = sorted(float(e[0]) for pts in ins for e in (pts[0], pts[-1]) if abs(e[1] - Y_AREA[0]) < 1e-9)
+        edge = _bisect(lambda x: _type2_on([(x, Y_AREA[0])])[0], 0.5, 4.0)
+        c.true("map: the DKP-input curve ends on the edge y = 0.5 where the closed-form locus meets it (x = ±"
+               f"{edge:.6f}, by bisection on the closed form)",
+               len(ends) == 2 and abs(ends[0] + edge) < 1e-9 and abs(ends[1] - edge) < 1e-9, ends)
     if outs:
+        top = [pt["at"] for pt in wmap.to_dict()["points"] if pt["kind"] == "DKP-output"]
+        c.true("map: the two DKP-output arcs meet at the top of the workspace, (0, √96) (an isolated point)",
+               any(abs(a[0]) < 1e-9 and abs(a[1] - math.sqrt(96.0)) < 1e-9 for a in top), top)
         worst = max(float(np.max(np.min(np.abs([np.hypot(*(pts - a).T) - 10.0 for a in (A1, A2)]), axis=0)))
                     for pts in outs)
-        c.close("map: every DKP-output curve point is on a circle |P − A_i| = 10", worst / L_LINK, 0.0, tol=1e-9)
+        c.close("map: every point of the DKP-output curves is on a circle |P − A_i| = 10", worst / L_LINK, 0.0,
+                tol=1e-9)
+
+
+def _bisect(f, lo: float, hi: float) -> float:
+    flo = f(lo)
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if (f(mid) > 0) == (flo > 0):
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 def _type2_on(points) -> np.ndarray:
-    return np.array([_cross(p - configuration(p)["B1"], p - configuration(p)["B2"]) / L_LINK ** 2
-                     for p in np.asarray(points, float)])
+    out = []
+    for p in np.asarray(points, float):
+        cfg = configuration(p)
+        out.append(_cross(p - cfg["B1"], p - cfg["B2"]) / L_LINK ** 2)
+    return np.array(out)
 
 
 if __name__ == "__main__":
