@@ -58,6 +58,8 @@ def elbow(a, p, l1: float, l2: float, sign) -> np.ndarray:
     with np.errstate(invalid="ignore", divide="ignore"):
         along = (l1 * l1 - l2 * l2 + r * r) / (2 * r)
         h2 = l1 * l1 - along * along
+        # a point on the stretched / folded circle up to rounding (1e-12 relative) is on it
+        h2 = np.where((h2 < 0) & (h2 > -1e-12 * l1 * l1), 0.0, h2)
         h = np.sqrt(np.where(h2 >= 0, h2, np.nan))
         u = d / r[..., None]
     n = np.stack([-u[..., 1], u[..., 0]], axis=-1)
