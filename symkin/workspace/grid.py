@@ -12,7 +12,7 @@ Guards (as ``trace`` guards its steps):
 * **predictor distance** — the Newton start is the tangent predictor
   ``q_N + (∂q/∂a)(a − a_N)`` from the neighbour ``N`` (``∂q/∂a`` from ``dS/dq`` at ``N``); a
   solution farther from it than ``jump · ‖predictor step‖`` (:data:`JUMP`; distances in
-  units of the length scale) is not accepted.  It is re-solved from the neighbour in 2, 4, 8
+  units of the length scale) is not accepted.  It is re-solved from the neighbour in 4
   sub-steps; when every attempt fails the point is marked ``rejected`` (a converged but
   untrusted solution) or not assembled (Newton does not converge: outside the mode's
   workspace).  Nothing is guessed.
@@ -53,7 +53,7 @@ JUMP = 1.0
 #: bits of :attr:`ModeGrid.types`
 TYPE_BITS = {"IM": 1, "DKP-input": 2, "DKP-output": 4}
 #: sub-step counts tried after a rejected or failed full step
-_SUBSTEPS = (2, 4, 8)
+_SUBSTEPS = (4,)
 
 
 def type_names(bits: int) -> tuple[str, ...]:

@@ -48,11 +48,17 @@ Algorithm
    *closes* (passes its start again in the same direction), *leaves the box* (the last
    point is solved onto the box edge), *meets the workspace boundary* of the mode (the
    other DKP test function changes sign: located by
-   :func:`symkin.paths.events.locate_sign_change`), nears an IM configuration (relative
-   ``σ_{F+1}`` below :attr:`Tolerances.near_branch`, where ``T`` is not defined) or
+   :func:`symkin.paths.events.locate_sign_change`), meets another locus at a branch point
+   (``det[H'; tᵀ]`` changes sign), nears an IM configuration (the relative IM indicator
+   ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points
+   (:func:`symkin.paths.events.locate_minimum`), below :attr:`Tolerances.near_branch`:
+   ``T`` is not defined at IM; the IM configuration is then refined as in step 4) or
    cannot be continued.  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
-4. **Points** — where a curve ends on the mode boundary or near IM, the end
+4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
+   :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
+   the constraints lose rank; the core decides whether it is IM (it is then reported).
+5. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
    when it has two or more types, else its type).
@@ -76,7 +82,7 @@ from symkin.analysis.batch import Evaluators, evaluators_for
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.numeric.evaluators import INDICATOR_NAMES
 from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
-from symkin.paths.events import TestFunction, locate_sign_change
+from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
@@ -121,6 +127,13 @@ class LocusSystem:
         the user's unit (:meth:`MapSystem.to_user`: model lengths, degrees or radians), and
         ``axis_scale`` is ``ℓ`` for a length axis and one radian in the user's unit for an
         angle.  A :class:`LocusSystem` is returned as it is.
+
+        >>> from symkin.model.catalogue import get
+        >>> from symkin.workspace.system import map_system
+        >>> mech = get("rrr_3")
+        >>> ls = LocusSystem.of(map_system(mech, "velocity:C1.x", "rotation:platform", hold=["velocity:C1.y"]))
+        >>> ls.nf, ls.constraints.numel(), ls.axis_scale[0] == mech.length_scale, round(ls.axis_scale[1], 4)
+        (12, 10, True, 57.2958)
         """
         if isinstance(system, LocusSystem):
             return system
@@ -153,11 +166,19 @@ class GridData:
     configuration: Callable[[int, int], np.ndarray | None] | None = None
 
     def config(self, j: int, i: int) -> np.ndarray | None:
+        """The configuration at ``[j, i]``: from ``q`` when stored there, else from ``configuration``; or None."""
+        if not self.assembled[j, i]:
+            return None
         if self.q is not None:
-            return None if not self.assembled[j, i] else np.asarray(self.q[j, i], float)
+            q = np.asarray(self.q[j, i], float)
+            if np.all(np.isfinite(q)):
+                return q
         if self.configuration is not None:
-            return self.configuration(j, i)
-        raise SymkinError("refinement needs the grid's configurations (q) or a way to re-solve them")
+            q = self.configuration(j, i)
+            return None if q is None or not np.all(np.isfinite(q)) else np.asarray(q, float)
+        if self.q is None:
+            raise SymkinError("refinement needs the grid's configurations (q) or a way to re-solve them")
+        return None
 
     def at(self, j: int, i: int) -> np.ndarray:
         return np.array([self.xs[i], self.ys[j]], float)
@@ -214,6 +235,7 @@ class RefineStats:
     folds: int = 0
     located: int = 0
     seeded: int = 0
+    im_candidates: int = 0
     duplicates: int = 0
     failed: int = 0
     locate_evaluations: int = 0
@@ -257,6 +279,7 @@ class _Problems:
         self._tests = ca.Function("tests", [y], [tests["DKP-input"], tests["DKP-output"], rel_im])
         self._curve = {k: ca.Function(f"locus_{KINDS[k]}", [y], [ca.vertcat(g, t), ca.jacobian(ca.vertcat(g, t), y)])
                        for k, t in tests.items()}
+        self._constraints = ca.Function("constraints", [y], [g, ca.jacobian(g, y)])
         target = ca.SX.sym("target", 2)
         sq = ca.vertcat(g, ax - target)
         self._square = ca.Function("square", [y, target], [sq, ca.jacobian(sq, y)])
@@ -279,9 +302,23 @@ class _Problems:
     def curve(self, kind: str) -> "_Curve":
         return _Curve(self._curve[kind], self.counter)
 
+    def constraints(self) -> "_Fn":
+        """The 2-D solution surface ``(Φ_S/ℓ, holds)(y) = 0`` (axes free)."""
+        return _Fn(self._constraints, self.counter)
+
     def solve_square(self, target: np.ndarray, y0: np.ndarray) -> np.ndarray:
         """Free coordinates ``y`` at dimensionless axis values ``target`` (Newton from ``y0``)."""
         return newton(_Fn(self._square, self.counter, (ca.DM(target),)), y0, tol=_NEWTON_TOL, max_iterations=25)[0]
+
+    def square_singular(self, y: np.ndarray, tol: Tolerances) -> bool:
+        """Whether the square position problem is singular at ``y``: ``σ_min ≤ event_threshold · σ_max``.
+
+        Its rows are dimensionless, so the relative test is scale invariant; the threshold
+        is the core's path-event threshold (:attr:`Tolerances.event_threshold`).
+        """
+        jac = np.array(self._square(y, ca.DM.zeros(2))[1])
+        sv = np.linalg.svd(jac, compute_uv=False)
+        return bool(sv[-1] <= tol.event_threshold * sv[0])
 
     def extended(self, kind: str, a0: np.ndarray, d: np.ndarray) -> "_Fn":
         return _Fn(self._extended[kind], self.counter, (ca.DM(a0), ca.DM(d)))
@@ -366,13 +403,16 @@ def locate_crossing(pb: _Problems, kind: str, a_a: np.ndarray, y_a: np.ndarray, 
 
 
 def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray,
-                bisections: int = 16) -> tuple[str, np.ndarray, float]:
+                bisections: int = 16, tol: Tolerances = DEFAULT) -> tuple[str, np.ndarray, float]:
     """The mode's workspace boundary on the segment from assembled ``a_a`` (config ``y_a``) to ``a_b``.
 
     Bisection on whether the square problem solves from the last assembled point (a
     Newton step that does not converge, or that moves farther than the bracket allows,
     counts as not assembled), then the extended system with the DKP test function that is
-    smaller there polishes the fold.  Returns ``(kind, y, s)``.
+    smaller there polishes the fold; it is accepted when the square problem is singular
+    there (:meth:`_Problems.square_singular`), else the other function is tried.  Returns
+    ``(kind, y, s)``; raises NotConvergedError when neither gives a fold (a map whose axes
+    mix inputs and outputs: its folds are neither locus).
     """
     d = a_b - a_a
     lo, hi, y_lo = 0.0, 1.0, np.array(y_a, float)
@@ -385,9 +425,46 @@ def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray
             continue
         lo, y_lo = mid, y
     t = pb.tests(y_lo)
-    kind = min(KINDS, key=lambda k: abs(t[k]) if math.isfinite(t[k]) else math.inf)
-    y, s = _polish(pb, kind, a_a, d, y_lo, lo)
-    return kind, y, s
+    tried = sorted(KINDS, key=lambda k: abs(t[k]) if math.isfinite(t[k]) else math.inf)
+    for kind in tried:
+        try:
+            y, s = _polish(pb, kind, a_a, d, y_lo, lo)
+        except NotConvergedError:
+            continue
+        if pb.square_singular(y, tol):
+            return kind, y, s
+    raise NotConvergedError("the mode's boundary here is not a zero of a DKP test function "
+                            "(the square position problem stays regular where they vanish)", y=y_lo)
+
+
+def _im_candidates(grid: GridData) -> list[tuple[int, int]]:
+    """Grid nodes whose IM indicator is below all eight assembled neighbours (a minimum to refine)."""
+    if grid.im_indicator is None:
+        return []
+    im = np.asarray(grid.im_indicator, float)
+    asm = np.asarray(grid.assembled, bool) & np.isfinite(im)
+    ny, nx = im.shape
+    out = []
+    for j in range(1, ny - 1):
+        for i in range(1, nx - 1):
+            block, ok = im[j - 1:j + 2, i - 1:i + 2], asm[j - 1:j + 2, i - 1:i + 2]
+            if ok.all() and np.count_nonzero(block <= im[j, i]) == 1:
+                out.append((j, i))
+    return out
+
+
+def locate_im(pb: _Problems, y0: np.ndarray) -> np.ndarray | None:
+    """An IM configuration near ``y0``: where the surface ``(Φ_S/ℓ, holds) = 0`` loses rank.
+
+    :func:`symkin.paths.events.refine_rank_drop` (Gauss–Newton on the constraints, a left
+    null vector ``ψ`` of their Jacobian and its normalisation) from the grid configuration
+    of an IM-indicator minimum; None when it does not converge.  The caller asks the core
+    whether the configuration is IM.
+    """
+    y, ok = refine_rank_drop(pb.constraints(), y0, 1)
+    if not ok or not np.all(np.isfinite(y)):
+        return None
+    return y
 
 
 # ---------------------------------------------------------------------- tracing
@@ -437,6 +514,8 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
     branch = TestFunction("branch", lambda yy, tt: _branch_test(problem, yy, tt))
     b_prev = branch.f(y0, t0)
     i_prev = pb.tests(y0)[interior]
+    im_test = TestFunction("im", lambda yy, tt: pb.tests(yy)["im"], signed=False, threshold=tol.near_branch)
+    pprev, r_pprev, r_prev = None, math.inf, pb.tests(y0)["im"]
     try:
         for point in continue_curve(problem, y0, t0, settings):
             if prev is None:
@@ -449,9 +528,24 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 end = "box"
                 break
             if t["im"] < tol.near_branch or not all(math.isfinite(t[k]) for k in KINDS):
+                # T is not defined at IM: the curve ends here; the IM configuration is refined
                 end, end_y = "IM", point.y
                 out.append(point.y)
+                exact = locate_im(pb, point.y)
+                if exact is not None:
+                    end_y = exact
                 break
+            if pprev is not None and r_prev < r_pprev and r_prev < t["im"] and r_prev <= settings.max_step:
+                # a local minimum of the relative IM indicator σ_{F+1}, within about a step of zero (it changes
+                # by about the step over a step): an IM point where loci meet?
+                ev_im = locate_minimum(problem, im_test, pprev, prev, point)
+                if ev_im is not None:
+                    end, end_y = "IM", ev_im.y
+                    out.append(ev_im.y)
+                    exact = locate_im(pb, ev_im.y)
+                    if exact is not None:
+                        end_y = exact
+                    break
             b_now = branch.f(point.y, point.t)
             crossed = kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b
             branched = b_now * b_prev < 0
@@ -474,6 +568,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 except (NotConvergedError, ValueError):
                     pass
             b_prev, i_prev = b_now, t[interior]
+            pprev, r_pprev, r_prev = prev, r_prev, t["im"]
             if point.s > 3 * settings.max_step and float(point.t @ start.t) > 0.5 and \
                     _segment_distance(start.y, prev.y, point.y) <= 0.25 * float(np.linalg.norm(point.y - prev.y)):
                 end = "closed"
@@ -608,6 +703,29 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     curves : list of Curve
     points : list of SingularPoint
     stats : RefineStats
+
+    Examples
+    --------
+    The catalogue five-bar (|A_i B_i| = 1, |B_i P| = 2, A = (∓1, 0)) over a coarse grid: the
+    mode's workspace boundary is the four circles |P − A_i| = 1, 3 (type 1, ``DKP-output``);
+    the outer ones end where they meet, at P = (0, √8), a corner of the workspace.
+
+    >>> import numpy as np
+    >>> from symkin.model.catalogue import get
+    >>> from symkin.workspace.system import map_system
+    >>> from symkin.workspace.grid import continue_mode
+    >>> s = map_system(get("five_bar"), "velocity:P.x", "velocity:P.y")
+    >>> xs, ys = np.linspace(-3.5, 3.5, 15), np.linspace(0.2, 4.4, 10)
+    >>> g = continue_mode(s, xs, ys, s.q0, keep_configurations=True)
+    >>> grid = GridData(xs, ys, g.assembled, g.dkp_input, g.dkp_output, g.im_indicator, q=g.q)
+    >>> curves, points, stats = refine(s, grid)
+    >>> sorted(c.ends for c in curves)
+    [('box', 'box'), ('box', 'box'), ('box', 'branch'), ('box', 'branch')]
+    >>> err = [min(abs(np.hypot(*(c.points - (a, 0)).T) - r).max() for a in (-1, 1) for r in (1, 3)) for c in curves]
+    >>> bool(max(err) < 1e-9)
+    True
+    >>> [(pt.kind, (abs(pt.at) + 0.0).round(9).tolist()) for pt in points]
+    [('DKP-output', [0.0, 2.828427125])]
     """
     sys_ = LocusSystem.of(system)
     pb = _Problems(sys_)
@@ -684,7 +802,7 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             continue
         before = pb.counter.n
         try:
-            kind, y, s = locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_))
+            kind, y, s = locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)
         except NotConvergedError:
             stats.failed += 1
             continue
@@ -694,6 +812,18 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             stats.duplicates += 1
             continue
         take(kind, y)
+    for j, i in _im_candidates(grid):
+        qa = grid.config(j, i)
+        if qa is None:
+            continue
+        before = pb.counter.n
+        y = locate_im(pb, qa / pb.scale)
+        if y is None:
+            stats.failed += 1
+            continue
+        stats.im_candidates += 1
+        stats.locate_evaluations += pb.counter.n - before
+        _add_point(points, pb, sys_, y, mode, scale, tol, only_im=True)
     interior = _OTHER[boundary[0]]
     while seeds:
         y = seeds.pop(0)
@@ -705,14 +835,25 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     return curves, points, stats
 
 
-def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, mode, scale, tol) -> None:
-    """Classify the configuration ``y`` with the core and record it (merged with a point already there)."""
+def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, mode, scale, tol,
+               only_im: bool = False) -> None:
+    """Classify the configuration ``y`` with the core and record it.
+
+    A point is merged with one already recorded at the same configuration, or, for IM
+    points (whose configuration need not be unique: a leg folded onto its pivot turns
+    freely), at the same axis values (both within ``1e3 · same_configuration``, relative).
+    ``only_im`` records it only when the core says IM.
+    """
     q = y * pb.scale
     at = pb.axes(y) * scale
-    for p in points:
-        if np.linalg.norm((p.configuration - q) / pb.scale) <= 1e3 * tol.same_configuration:
-            return
     res = system.evaluators.indicators_at(q, tol)
+    if only_im and not res["im"]:
+        return
+    for p in points:
+        same_q = np.linalg.norm((p.configuration - q) / pb.scale) <= 1e3 * tol.same_configuration
+        same_at = np.linalg.norm((p.at - at) / scale) <= 1e3 * tol.same_configuration
+        if same_q or (res["im"] and "IM" in p.types and same_at):
+            return
     types = tuple(name for name, flag in (("IM", res["im"]), ("DKP-input", res["is_dkp_input"]),
                                            ("DKP-output", res["is_dkp_output"])) if flag)
     kind = "IM" if "IM" in types else ("meeting" if len(types) >= 2 else (types[0] if types else "end"))

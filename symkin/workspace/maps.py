@@ -299,12 +299,12 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     xs_user, ys_user = axes[0].values, axes[1].values
     xs = system.to_internal(np.column_stack([xs_user, np.zeros(nx)]))[:, 0]
     ys = system.to_internal(np.column_stack([np.zeros(ny), ys_user]))[:, 1]
-    seeds_q = model_modes(system, seeds, modes, tolerances)
-    notes: list[str] = []
+    seeds_q, merged = model_modes(system, seeds, modes, tolerances)
+    notes: list[str] = list(merged)
     mode_maps: list[ModeMap] = []
     grids: list[ModeGrid] = []
     for label, q in seeds_q:
-        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations or refine,
+        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations,
                           progress=progress)
         dup = next((k for k, h in enumerate(grids) if _same_mode(h, g)), None)
         if dup is not None:

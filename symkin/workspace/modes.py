@@ -60,9 +60,11 @@ def _topology_problems(mech: Mechanism, other: Mechanism) -> list[str]:
 
 
 def model_modes(system: MapSystem, seeds=(), modes: str = "model",
-                tolerances: Tolerances | float | None = None) -> list[Seed]:
-    """The seeds of a map's modes: ``[Seed("model", q0), Seed(seed label, q), ...]``, duplicates merged.
+                tolerances: Tolerances | float | None = None) -> tuple[list[Seed], list[str]]:
+    """The seeds of a map's modes, ``[Seed("model", q0), Seed(seed label, q), ...]``, and notes on merged ones.
 
+    A seed with the configuration of an earlier one (within ``same_configuration``) is merged
+    into it (a note says so).
     A seed must be the same mechanism (topology, links, sliders, parameters), close its
     loops with the model's link lengths and lie on the held values; otherwise a
     :class:`SymkinError` names the seed and the problem.
@@ -82,6 +84,7 @@ def model_modes(system: MapSystem, seeds=(), modes: str = "model",
     ev = system.evaluators
     ell = mech.length_scale
     out = [Seed(("model", system.q0))]
+    merged: list[str] = []
     for seed in seeds:
         label, other = _seed_mechanism(seed)
         problems = _topology_problems(mech, other)
@@ -107,7 +110,9 @@ def model_modes(system: MapSystem, seeds=(), modes: str = "model",
                 raise SymkinError(f"seed {label}: not on the held values: {h.label} is "
                                   f"{system.to_user(c, 'holds')[k]:.6g}, the map holds "
                                   f"{system.to_user(system.hold_values, 'holds')[k]:.6g}")
-        if any(np.linalg.norm(q - s.q) <= tol.same_configuration * ell for s in out):
+        same = next((s for s in out if np.linalg.norm(q - s.q) <= tol.same_configuration * ell), None)
+        if same is not None:
+            merged.append(f"seed {label} has the configuration of seed {same.label}: merged")
             continue
         out.append(Seed((label, q)))
-    return out
+    return out, merged

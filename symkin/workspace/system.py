@@ -88,6 +88,10 @@ UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 NEWTON_TOL = 1e-11
 #: Newton iterations before a grid point counts as not reached
 NEWTON_ITER = 12
+#: from this iteration on, a Newton iterate whose residual grows is given up (it diverges)
+DIVERGE_AFTER = 3
+#: largest number of points per mapped call
+_CHUNK = 2048
 
 
 @dataclass(frozen=True)
@@ -211,13 +215,14 @@ class MapSystem:
         held = (c - target[2:]) / sc if self.holds else ca.SX(0, 1)
         s = ca.vertcat(phi_s, held, (a - target[:2]) / sa)
         cons = ca.vertcat(phi_s, (c - h) / sc if self.holds else ca.SX(0, 1))
+        d = ca.densify  # dense outputs: the buffer interface writes every entry
         self.functions = {
-            "square": ca.Function("map_square", [q, target], [s, ca.jacobian(s, q)], ["q", "target"],
+            "square": ca.Function("map_square", [q, target], [d(s), d(ca.jacobian(s, q))], ["q", "target"],
                                   ["S", "dS_dq"]),
-            "constraints": ca.Function("map_constraints", [q, h], [cons, ca.jacobian(cons, q)], ["q", "h"],
+            "constraints": ca.Function("map_constraints", [q, h], [d(cons), d(ca.jacobian(cons, q))], ["q", "h"],
                                        ["C", "dC_dq"]),
-            "axes": ca.Function("map_axes", [q], [a, ca.jacobian(a, q)], ["q"], ["a", "da_dq"]),
-            "holds": ca.Function("map_holds", [q], [c], ["q"], ["c"]),
+            "axes": ca.Function("map_axes", [q], [d(a), d(ca.jacobian(a, q))], ["q"], ["a", "da_dq"]),
+            "holds": ca.Function("map_holds", [q], [d(c)], ["q"], ["c"]),
         }
         self._maps: dict = {}
         self._check_independent()
@@ -301,25 +306,45 @@ class MapSystem:
         """Function ``name`` at N points: ``args`` are (N, size) arrays (or one shared 1-D vector).
 
         Returns the outputs as arrays of shape ``(N, rows)`` (vectors) or ``(N, rows, cols)``.
+        Evaluated by ``Function.map`` over chunks of a power-of-two size through CasADi's
+        buffer interface (no Python loop per point, no conversion to ``DM``).
         """
         f = self.functions[name]
-        n = max(np.atleast_2d(a).shape[0] if np.ndim(a) == 2 else 1 for a in args)
-        key = (name, n)
-        fm = self._maps.get(key)
-        if fm is None:
-            fm = f if n == 1 else f.map(n, "serial")
-            self._maps[key] = fm
-        cols = []
-        for a in args:
+        n = max(np.shape(a)[0] if np.ndim(a) == 2 else 1 for a in args)
+        ins = []
+        for k, a in enumerate(args):
             a = np.asarray(a, dtype=float)
-            cols.append(ca.DM(a.T) if a.ndim == 2 else ca.repmat(ca.DM(a), 1, n))
-        outs = fm(*cols)
-        outs = outs if isinstance(outs, (list, tuple)) else [outs]
+            ins.append(np.ascontiguousarray(np.broadcast_to(a.reshape(-1, f.numel_in(k)), (n, f.numel_in(k)))))
+        outs = [np.empty((n,) + f.size_out(i)[::-1]) for i in range(f.n_out())]
+        size = min(_CHUNK, 1 << max(0, (n - 1).bit_length()))
+        hit = self._maps.get((name, size))
+        if hit is None:
+            fm = f if size == 1 else f.map(f"{f.name()}_map{size}", "serial", size, [], [])
+            hit = (fm,) + tuple(fm.buffer())
+            self._maps[(name, size)] = hit
+        _, buf, trig = hit
+        for start in range(0, n, size):
+            stop = min(start + size, n)
+            if stop - start == size:
+                part_in = [a[start:stop] for a in ins]
+                part_out = [o[start:stop] for o in outs]
+            else:  # the last chunk, padded with its first point
+                part_in = [np.ascontiguousarray(np.concatenate([a[start:stop], np.repeat(a[start:start + 1],
+                                                                                          size - stop + start, 0)]))
+                           for a in ins]
+                part_out = [np.empty((size,) + o.shape[1:]) for o in outs]
+            for k, a in enumerate(part_in):
+                buf.set_arg(k, memoryview(a))
+            for k, o in enumerate(part_out):
+                buf.set_res(k, memoryview(o))
+            trig()
+            if stop - start != size:
+                for o, po in zip(outs, part_out):
+                    o[start:stop] = po[: stop - start]
         result = []
         for i, o in enumerate(outs):
             r, c = f.size_out(i)
-            arr = np.array(o)
-            result.append(arr.T.reshape(n, r) if c == 1 else arr.reshape(r, n, c).transpose(1, 0, 2))
+            result.append(o.reshape(n, r) if c == 1 else o.transpose(0, 2, 1))
         return result
 
     def axis_values(self, q) -> np.ndarray:
@@ -338,8 +363,9 @@ class MapSystem:
         tol : float
             Converged when the dimensionless residual ``max |S| <= tol``.
         max_iter : int
-            Newton iterations at most; a point not converged by then, or whose step is not
-            finite (singular position problem), is reported as not converged.
+            Newton iterations at most; a point not converged by then, whose step is not
+            finite (singular position problem) or whose residual grows from iteration
+            :data:`DIVERGE_AFTER` on, is reported as not converged.
 
         Returns
         -------
@@ -360,11 +386,13 @@ class MapSystem:
                 break
             s, jac = self.evaluate("square", q[active], t[active])
             err = np.max(np.abs(s), axis=1) if s.size else np.zeros(active.size)
+            before = residual[active]
             residual[active] = err
             done = err <= tol
             converged[active[done]] = True
             iterations[active[done]] = it
-            keep = ~done & np.isfinite(err)
+            # a residual that grows after the first steps: Newton diverges (no solution near), stop it
+            keep = ~done & np.isfinite(err) & ((it < DIVERGE_AFTER) | (err < before))
             active, s, jac = active[keep], s[keep], jac[keep]
             if active.size == 0 or it == max_iter:
                 break

@@ -304,3 +304,33 @@ def test_rrr_constant_orientation_loci(rrr_map):
     assert samples
     far = [p for p in samples if _near_any(np.array(p), inp) > 2 * CELL3]
     assert not far, far[:3]
+
+
+# ---------------------------------------------------------------------- an IM point where two loci meet
+@pytest.mark.slow
+def test_im_point_where_two_fold_curves_meet():
+    """l1 = 2.2, l2 = 1.2 on the catalogue's base: the inner circles |P − A_i| = 1 touch at the origin, where all four
+    bars are collinear (B1 = (1.2, 0), B2 = (−1.2, 0)) and the y velocities of B1, B2, P are free: L = 3 > F (IM).
+
+    The traced fold circles end there (the DKP test functions are not defined at IM); the end is refined to the
+    origin to 1e-9 and the core classifies it IM.
+    """
+    d = data("five_bar")
+    p = np.array([0.3, 1.9])
+    b = _ik(p, (1, -1), A, 2.2, 1.2)
+    d["nodes"].update(B1=list(b[0]), B2=list(b[1]), P=list(p))
+    mech = Mechanism.from_dict(d)
+    sys_ = map_system(mech, "velocity:P.x", "velocity:P.y")
+    xs, ys = np.linspace(-2.03, 2.01, 21), np.linspace(-1.49, 1.53, 16)
+    grid = _grid(sys_.evaluators, xs, ys, (1, -1), A, 2.2, 1.2)
+    curves, points, stats = refine(sys_, grid, mode="elbows")
+    im = [pt for pt in points if pt.kind == "IM"]
+    assert len(im) == 1, [pt.to_dict() for pt in points]
+    assert np.linalg.norm(im[0].at) <= 1e-9 and "IM" in im[0].types
+    b1, b2 = (_nodes(sys_.evaluators, im[0].configuration[None], n)[0] for n in ("B1", "B2"))
+    assert np.allclose(b1, [1.2, 0.0], atol=1e-9) and np.allclose(b2, [-1.2, 0.0], atol=1e-9)
+    # the two inner circles, each traced from the IM point round to it again
+    inner = [c for c in curves if c.kind == "DKP-output"]
+    assert len(inner) == 2 and all(c.ends == ("IM", "IM") for c in inner)
+    for c, centre in zip(sorted(inner, key=lambda c: c.points[:, 0].mean()), A):
+        assert np.abs(np.linalg.norm(c.points - centre, axis=1) - 1.0).max() <= 1e-9
