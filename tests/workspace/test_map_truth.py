@@ -284,6 +284,27 @@ def test_rrr_traced_type2_points_have_concurrent_distal_lines(rrr_map):
 
 
 @pytest.mark.slow
+def test_rrr_every_type2_point_in_the_box_is_near_a_traced_curve(rrr_map):
+    wmap, rrr, mode, ((x0, x1), (y0, y1)) = rrr_map
+    step = max((x1 - x0) / 30, (y1 - y0) / 30)
+    curves = _curves(wmap, "DKP-input", 0)
+    checked, worst = 0, 0.0
+    for y in np.linspace(y0 + step, y1 - step, 41):
+        xs = np.linspace(x0 + step, x1 - step, 241)
+        f = T.rrr_type2(rrr, np.column_stack([xs, np.full_like(xs, y)]), 0.0, mode)
+        for k in np.nonzero(np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (f[:-1] * f[1:] < 0))[0]:
+            x = T.bisect_root(lambda s: float(T.rrr_type2(rrr, np.array([s, y]), 0.0, mode)), xs[k], xs[k + 1])
+            q = np.array([x, y])
+            # away from the mode's workspace boundary (a leg stretched or folded), where curves end
+            if np.min(np.abs(T.rrr_type1(rrr, q, 0.0))) * 4.5 < step:
+                continue
+            worst = max(worst, _nearest(q, curves))
+            checked += 1
+    assert checked > 20
+    assert worst < 0.05 * step, f"a type-2 point {worst:.3g} from every traced curve (grid step {step:.3g})"
+
+
+@pytest.mark.slow
 def test_rrr_assembled_where_the_closed_form_reaches(rrr_map):
     wmap, rrr, mode, _ = rrr_map
     X, Y = np.meshgrid(wmap.xs, wmap.ys)
