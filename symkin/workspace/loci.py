@@ -523,7 +523,37 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 continue
             a = pb.axes(point.y)
             t = pb.tests(point.y)
-            if np.any(a < box[:, 0]) or np.any(a > box[:, 1]):
+            b_now = branch.f(point.y, point.t)
+            crossed = kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b
+            branched = b_now * b_prev < 0
+            outside = bool(np.any(a < box[:, 0]) or np.any(a > box[:, 1]))
+            if crossed or branched:
+                # the mode's boundary or another locus between prev and point (checked before the box: a step
+                # may cross both, and past the boundary the curve belongs to another mode)
+                test = TestFunction(kind_b, lambda yy, tt: pb.tests(yy)[kind_b]) if crossed else branch
+                end = "boundary" if crossed else "branch"
+                if crossed and pb.tests(prev.y)[kind_b] * sign_b <= 0:
+                    end_y = prev.y  # started on the boundary and left the mode at once: nothing to add
+                    break
+                try:
+                    end_y = locate_sign_change(problem, test, prev, point).y
+                except (NotConvergedError, ValueError):
+                    end_y = prev.y
+                if pb.tests(end_y)["im"] < tol.near_branch:
+                    # an event next to IM is the IM point (as ``trace`` does, Tolerances.near_branch)
+                    exact = locate_im(pb, end_y)
+                    if exact is not None:
+                        out.append(end_y)
+                        end, end_y = "IM", exact
+                        break
+                ae = pb.axes(end_y)
+                if np.any(ae < box[:, 0]) or np.any(ae > box[:, 1]):
+                    out.append(_onto_box(pb, problem, prev.y, end_y, box))
+                    end, end_y = "box", None
+                else:
+                    out.append(end_y)
+                break
+            if outside:
                 out.append(_onto_box(pb, problem, prev.y, point.y, box))
                 end = "box"
                 break
@@ -546,21 +576,6 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                     if exact is not None:
                         end_y = exact
                     break
-            b_now = branch.f(point.y, point.t)
-            crossed = kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b
-            branched = b_now * b_prev < 0
-            if crossed or branched:
-                test = TestFunction(kind_b, lambda yy, tt: pb.tests(yy)[kind_b]) if crossed else branch
-                end = "boundary" if crossed else "branch"
-                if crossed and pb.tests(prev.y)[kind_b] * sign_b <= 0:
-                    end_y = prev.y  # started on the boundary and left the mode at once: nothing to add
-                    break
-                try:
-                    end_y = locate_sign_change(problem, test, prev, point).y
-                except (NotConvergedError, ValueError):
-                    end_y = prev.y
-                out.append(end_y)
-                break
             if kind == kind_b and t[interior] * i_prev < 0:
                 test = TestFunction(interior, lambda yy, tt: pb.tests(yy)[interior])
                 try:
@@ -841,7 +856,8 @@ def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, 
 
     A point is merged with one already recorded at the same configuration, or, for IM
     points (whose configuration need not be unique: a leg folded onto its pivot turns
-    freely), at the same axis values (both within ``1e3 · same_configuration``, relative).
+    freely), at the same axis values (both within :attr:`Tolerances.same_configuration`,
+    relative to the length scale / axis scale).
     ``only_im`` records it only when the core says IM.
     """
     q = y * pb.scale
@@ -850,8 +866,8 @@ def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, 
     if only_im and not res["im"]:
         return
     for p in points:
-        same_q = np.linalg.norm((p.configuration - q) / pb.scale) <= 1e3 * tol.same_configuration
-        same_at = np.linalg.norm((p.at - at) / scale) <= 1e3 * tol.same_configuration
+        same_q = np.linalg.norm((p.configuration - q) / pb.scale) <= tol.same_configuration
+        same_at = np.linalg.norm((p.at - at) / scale) <= tol.same_configuration
         if same_q or (res["im"] and "IM" in p.types and same_at):
             return
     types = tuple(name for name, flag in (("IM", res["im"]), ("DKP-input", res["is_dkp_input"]),

@@ -21,6 +21,11 @@ that module is installed (otherwise the map says so in :attr:`WorkspaceMap.notes
 Axis values are in the user's units (angles in ``unit``).  :meth:`WorkspaceMap.save` writes
 an ``.npz`` (grid arrays per mode, curves, the header as JSON text; no pickles) that
 :func:`load_map` reads back.
+
+For the plots (``symkin map --plot FILE.png``) the CLI calls
+``symkin.plots.maps.save_map_figure(workspace_map, path) -> path`` when that module exists; it
+reads only this object (``axes``, ``modes[k]`` grid arrays ``(ny, nx)`` indexed ``[j, i]`` ↔
+``(xs[i], ys[j])``, ``curves``, ``points``).
 """
 from __future__ import annotations
 

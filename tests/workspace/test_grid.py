@@ -127,3 +127,28 @@ def test_axis_parsing_errors():
     with pytest.raises(SymkinError, match=">= 2"):
         make_axes("velocity:P.x=0:1", "velocity:P.y=0:1", 1)
     assert type_names(5) == ("IM", "DKP-output")
+
+
+@pytest.mark.parametrize("n", [15, 21])
+def test_no_silent_jump_between_assembly_modes(n):
+    """A coarse joint-space grid over nearly a full turn of both cranks.
+
+    The five-bar (l1 = 1, l2 = 2, |A1A2| = 2) assembles at every pair of crank angles; its two
+    assembly modes are the sides of the line B1B2 on which P lies, and a continuous path keeps
+    the side (it changes only where B1, P, B2 align, at the single point where the cranks point
+    outward).  Every grid point found on the other side must be announced: next to a reported
+    branch change or a rejected point.
+    """
+    s = map_system(get("five_bar"), "rotation:crank1", "rotation:crank2", unit="rad")
+    c1, c2 = s.axis_values(s.q0[None])[0]
+    xs, ys = np.linspace(c1 - 3.1, c1 + 3.1, n), np.linspace(c2 - 3.1, c2 + 3.1, n)
+    g = continue_mode(s, xs, ys, s.q0, keep_configurations=True)
+    assert g.fraction > 0.97
+    x = np.full((n, n, 5, 2), np.nan)
+    x[g.assembled] = np.array([s.evaluators.coordinates(q) for q in g.q[g.assembled]])
+    x0 = s.evaluators.coordinates(s.q0)
+    side = np.sign(_cross(x[..., 3, :] - x[..., 2, :], x[..., 4, :] - x[..., 2, :]))
+    seed_side = np.sign(_cross(x0[3] - x0[2], x0[4] - x0[2]))
+    marks = {tuple(p) for pair in g.branch_changes for p in pair} | {tuple(p) for p in np.argwhere(g.rejected)}
+    for j, i in np.argwhere(side == -seed_side):
+        assert any(abs(j - a) + abs(i - b) <= 1 for a, b in marks), (j, i)
