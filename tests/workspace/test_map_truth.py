@@ -135,10 +135,6 @@ def test_five_bar_traced_points_on_the_closed_form_loci(five_bar_map):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="loci: the DKP-input curve of mode (1, -1) that meets the folded-leg-2 "
-                                       "circle ends with a point of mode (1, 1)'s locus, (1.4757, 0.2) on the box "
-                                       "edge (type-2 residual 0.41 in its own mode, 5e-16 in mode (1, 1)): the "
-                                       "tracing crosses the mode's boundary instead of stopping there")
 def test_five_bar_curve_ends_on_the_box_edge_are_on_the_loci(five_bar_map):
     wmap, modes = five_bar_map
     for k, mode in enumerate(modes):
