@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 __all__ = ["COMMANDS", "Output"]
 
-COMMANDS = ["analyze", "reproduce", "path", "conditions", "codegen"]
+COMMANDS = ["analyze", "reproduce", "path", "conditions", "codegen", "modes"]
 
 
 @dataclass(frozen=True)
