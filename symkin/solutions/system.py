@@ -306,6 +306,13 @@ def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
             turned = math.cos(value) * r0 + math.sin(value) * np.cross(axis, r0)
             normal = np.cross(axis, turned)
             r = b.node(names[k]) - sp.Matrix(o)
+            link_fixed = set(mech.link_nodes(p.target[0])) & set(mech.fixed)
+            if reduce and isinstance(p.axis[0], str) and set(p.axis) <= link_fixed:
+                # the link turns about its fixed axis: the node's position is known, x = o + (r0·a) a + R r0⊥
+                along = float((b.model(names[k]) - o) @ axis)
+                for comp, target in zip(r, along * axis + turned):
+                    b.add(owner, comp - float(target))
+                continue
             b.add(owner, _dot([float(v) for v in normal], r))
             b.filters.append((owner, _dot([float(v) for v in turned], r)))
         elif p.kind == "velocity":

@@ -270,3 +270,34 @@ def test_analyze_each_solution_agrees_with_the_labels():
 def test_bad_values_raise_naming_the_problem(values, message):
     with pytest.raises(SymkinError, match=message):
         solve_all(catalogue.get("fourbar_appendix"), values, unit="deg")
+
+
+# ---------------------------------------------------------------- spatial rotation and joint angles
+def test_rssr_two_assembly_modes_on_the_rocker_circle():
+    m = catalogue.get("rssr")
+    x = {n: np.array(c) for n, c in m.coordinates().items()}
+    t = math.radians(20)
+    b = np.array([math.cos(t), math.sin(t), 0.0])  # B = (1, 0, 0) turned about the z axis
+    coupler = float(np.linalg.norm(x["C"] - x["B"]))
+    r = float(np.linalg.norm(x["C"] - x["O2"]))
+    # C turns about the x axis through O2 = (3, 0, 1): in the plane x = 3, the circle (y, z) about (0, 1)
+    # meets the sphere about B, i.e. the circle about (b_y, 0) of radius sqrt(coupler² − (3 − b_x)²)
+    yz = circle_points((0.0, 1.0), r, (b[1], 0.0), math.sqrt(coupler ** 2 - (3.0 - b[0]) ** 2))
+    expected = [np.concatenate([b, [3.0, y, z]]) for y, z in yz]
+    result = solve_all(m, {"rotation:crank[O1-O1b]": 20}, unit="deg")
+    assert_same_configurations(result, expected, ["B", "C"])
+    assert result.paths == 2 and result.complex == 0
+
+
+def test_joint_angle_prescribed_on_a_five_bar():
+    d = catalogue.data("five_bar")
+    d["inputs"] = [{"rotation": "crank1"}, {"joint": ["crank1", "distal1"]}]
+    m = Mechanism.from_dict(d)
+    x = {n: np.array(c) for n, c in m.coordinates().items()}
+    b1 = x["A1"] + rotate(x["B1"] - x["A1"], math.radians(10))
+    p = b1 + rotate(x["P"] - x["B1"], math.radians(15))  # the distal turns 10° + 5°
+    lc, ld = float(np.linalg.norm(x["B2"] - x["A2"])), float(np.linalg.norm(x["P"] - x["B2"]))
+    expected = [np.concatenate([b1, b2, p]) for b2 in circle_points(x["A2"], lc, p, ld)]
+    result = solve_all(m, {"rotation:crank1": 10, "joint:crank1-distal1": 5}, unit="deg")
+    assert_same_configurations(result, expected, ["B1", "B2", "P"])
+    assert result.paths == 2
