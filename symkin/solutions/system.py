@@ -23,7 +23,12 @@ Equations (``d`` a difference of node positions, all in ``u``):
   axis, with its half-line filter); a slide on a fixed line (linear) or on a moving line
   (``(x − x_A) · (x_C − x_A) = s·|AC|``, bilinear).
 
-One reduction keeps the number of paths down for prismatic legs: a free node D that
+The reduced system given to the homotopy keeps the number of paths down: a prescribed planar
+link angle (or planar joint angle, or rotation about a fixed axis of a link that holds the
+axis) becomes linear once the link's fixed length is used, ``x_j − x_i = l (cos θ, sin θ)``;
+every linear equation is substituted; and so is every combination of the quadratic equations
+free of quadratic terms (the difference of two circles about one node), until none is left
+(:func:`_reduce`).  One more reduction concerns prismatic legs: a free node D that
 appears only in a two-node link [A, D] pivoted at a fixed node A and as the line of one
 moving-line slider of node C whose slide ``ρ`` is prescribed, is determined by C
 (``D = A + l (C − A) / ρ``); its three equations are replaced by ``|x_C − x_A|² = ρ²``.
@@ -386,7 +391,7 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     >>> from symkin.model.catalogue import get
     >>> s = position_system(get("fourbar_appendix"), {"rotation:crank": 30}, unit="deg")
     >>> len(s.equations), len(s.unknowns), len(s.reduced), len(s.solve_for)
-    (4, 4, 2, 2)
+    (4, 4, 1, 1)
     """
     tol = Tolerances.of(tol)
     prescribed = prescribed_coordinates(mech, values, unit)
