@@ -16,6 +16,9 @@ model's length scale ``L`` (so the decisions do not depend on the unit of length
 * **complex** otherwise (distinct endpoints counted);
 * **at infinity** when the homogenising coordinate vanishes (counted).
 
+``near_real``, ``at_infinity`` and ``filtered`` count paths; ``complex`` counts distinct
+endpoints; paths ending at one real solution are its ``multiplicity``.
+
 A real solution whose closure residual or prescribed-value error exceeds ``VERIFY`` after
 Newton is dropped and counted in ``unverified`` (a bug if it ever happens).
 
@@ -68,6 +71,9 @@ class Solution:
         Largest closure residual of the evaluators, divided by the length scale.
     types : tuple of str
         IM / DKP types decided by :meth:`Evaluators.batch`.
+    multiplicity : int
+        Number of homotopy paths that ended at this solution (2 or more at a singular
+        solution, e.g. the two assembly modes of a four-bar meeting at a dead centre).
     analysis : Analysis or None
         :func:`symkin.analyze` at the configuration, with ``analyze=True``.
     """
@@ -77,12 +83,14 @@ class Solution:
     residual: float
     closure: float
     types: tuple = ()
+    multiplicity: int = 1
     analysis: Analysis | None = field(default=None, compare=False)
 
     def to_dict(self) -> dict:
         out: dict[str, Any] = {"configuration": {n: list(x) for n, x in self.configuration.items()},
                                "signs": dict(self.signs), "residual": self.residual,
-                               "closure": self.closure, "types": list(self.types)}
+                               "closure": self.closure, "types": list(self.types),
+                               "multiplicity": self.multiplicity}
         if self.analysis is not None:
             out["analysis"] = {"types": list(self.analysis.types), "dof": self.analysis.dof}
         return out
@@ -243,7 +251,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     checks = _Checks(system, prescribed)
     ev = evaluators_for(mech, tol)
     real_u, complex_pts, near, infinite, filtered = [], [], 0, 0, 0
-    residuals = []
+    residuals, counts = [], []
     for v in ends:
         h = v[0]
         if abs(h) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
@@ -262,27 +270,34 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         if im > imaginary or res > NEWTON_ACCEPT:
             near += 1
             continue
-        if _duplicate(ur, real_u, tol.same_configuration):
+        same = _duplicate(ur, real_u, tol.same_configuration)
+        if same is not None:
+            counts[same] += 1
             continue
         if any(float(fv) <= tol.geometry for fv in np.atleast_1d(checks.filters(ur))):
             filtered += 1
             continue
         real_u.append(ur)
         residuals.append(res)
+        counts.append(1)
     distinct_complex = []
     for u in complex_pts:
-        if not _duplicate(u, distinct_complex, 1e-6):
+        if _duplicate(u, distinct_complex, 1e-6) is None:
             distinct_complex.append(u)
     coords = [system.coordinates(u) for u in real_u]
-    sols = _label(mech, ev, coords, residuals, checks, tol, do_analyze)
+    sols = _label(mech, ev, coords, residuals, counts, checks, tol, do_analyze)
     sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
     return Solutions(mech, dict(values), unit, tuple(sols), len(distinct_complex), near, infinite, filtered,
                      len(coords) - len(sols), int(len(ends)) if n else 0, n, len(system.reduced), time.perf_counter() - start,
                      track_seconds)
 
 
-def _duplicate(u, seen, distance: float) -> bool:
-    return any(float(np.max(np.abs(u - s))) <= distance for s in seen)
+def _duplicate(u, seen, distance: float) -> int | None:
+    """Index of the first of ``seen`` within ``distance`` (max norm) of ``u``, else None."""
+    for k, s in enumerate(seen):
+        if float(np.max(np.abs(u - s))) <= distance:
+            return k
+    return None
 
 
 def _sign(value: float, decided: bool):
@@ -293,7 +308,7 @@ def _sign(value: float, decided: bool):
     return 1 if value > 0 else -1
 
 
-def _label(mech, ev, coords, residuals, checks: _Checks, tol: Tolerances, do_analyze: bool) -> list[Solution]:
+def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances, do_analyze: bool) -> list[Solution]:
     if not coords:
         return []
     q = np.array([[c[n][a] for n in mech.free_nodes for a in range(mech.dim)] for c in coords])
@@ -309,5 +324,5 @@ def _label(mech, ev, coords, residuals, checks: _Checks, tol: Tolerances, do_ana
         signs = {"dkp_input": _sign(float(result.dkp_input[k]), bool(result.is_dkp_input[k])),
                  "dkp_output": _sign(float(result.dkp_output[k]), bool(result.is_dkp_output[k]))}
         analysis = _analyze(mech.with_coordinates(c), tol=tol) if do_analyze else None
-        out.append(Solution(c, signs, float(residuals[k]), closure, result.types(k), analysis))
+        out.append(Solution(c, signs, float(residuals[k]), closure, result.types(k), counts[k], analysis))
     return out

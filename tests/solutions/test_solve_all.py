@@ -301,3 +301,20 @@ def test_joint_angle_prescribed_on_a_five_bar():
     result = solve_all(m, {"rotation:crank1": 10, "joint:crank1-distal1": 5}, unit="deg")
     assert_same_configurations(result, expected, ["B1", "B2", "P"])
     assert result.paths == 2
+
+
+def test_dead_centre_is_one_double_solution_labelled_dkp():
+    # crank 1 and coupler 3 aligned: B = (0.6, 0.8), C = 4 B; with the rocker's angle prescribed the
+    # two positions of B (circle about A meets circle about C) coincide: one solution, two paths
+    m = catalogue.get("fourbar_dead_centre")
+    result = solve_all(m, {"rotation:rocker": 0})
+    assert len(result.solutions) == 1 and result.paths == 2 and result.complex == 0
+    s = result.solutions[0]
+    assert s.multiplicity == 2
+    assert np.concatenate([s.configuration["B"], s.configuration["C"]]) == pytest.approx([0.6, 0.8, 2.4, 3.2],
+                                                                                        abs=1e-9)
+    assert s.types == ("DKP-output",) and s.signs["dkp_output"] == 0
+    # with the crank's angle prescribed there are two distinct modes, one of them the dead centre
+    both = solve_all(m, {"rotation:crank": 0})
+    assert [x.multiplicity for x in both.solutions] == [1, 1]
+    assert sorted(x.types for x in both.solutions) == [(), ("DKP-output",)]
