@@ -23,6 +23,8 @@ def add_arguments(p) -> None:
                    help="unit of angle values (default deg; lengths are in model units)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--analyze", action="store_true", help="classify every solution (symkin analyze)")
+    p.add_argument("--max-paths", type=int, default=5000,
+                   help="refuse a homotopy of more paths than this (default 5000)")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the DKP labels (default 1e-8)")
 
@@ -69,7 +71,8 @@ def run(args) -> Output:
     mech = read_model(args.model)
     values = parse_values(args.at)
     try:
-        result = solve_all(mech, values, unit=args.unit, tol=args.tol, analyze=args.analyze)
+        result = solve_all(mech, values, unit=args.unit, tol=args.tol, analyze=args.analyze,
+                           max_paths=args.max_paths)
     except SymkinError as exc:
         raise _in_file(exc, args.model)
     if args.json:

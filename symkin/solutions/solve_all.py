@@ -11,12 +11,15 @@ model's length scale ``L`` (so the decisions do not depend on the unit of length
   the closure residual of the evaluators (:func:`symkin.evaluators`, relative to ``L``), the
   prescribed values recomputed by :mod:`symkin.paths.coordinates`, and the half-line filters
   of prescribed angles (a solution on the opposite half-line is counted in ``filtered``);
-* **near-real** when ``imaginary < max |Im u| <= near_real`` (default ``1e-4``), or when Newton
-  does not confirm it: counted, not returned;
+* **near-real** when ``imaginary < max |Im u| <= near_real`` (default ``1e-4``): counted, not
+  returned;
+* **rejected** when it is real but Newton on the original equations does not bring the residual
+  below ``1e-10`` or moves it by more than ``near_real`` (a solution of the squared-up system
+  only, which Newton's least-squares steps carry to a true one): counted, not returned;
 * **complex** otherwise (distinct endpoints counted);
 * **at infinity** when the homogenising coordinate vanishes (counted).
 
-``near_real``, ``at_infinity`` and ``filtered`` count paths; ``complex`` counts distinct
+``near_real``, ``rejected``, ``at_infinity`` and ``filtered`` count paths; ``complex`` counts distinct
 endpoints; paths ending at one real solution are its ``multiplicity``.
 
 A real solution whose closure residual or prescribed-value error exceeds ``VERIFY`` after
@@ -39,6 +42,7 @@ import sympy as sp
 
 from symkin.analysis.batch import evaluators_for
 from symkin.analysis.classification import Analysis, analyze as _analyze
+from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
 from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
@@ -114,6 +118,7 @@ class Solutions:
     near_real: int
     at_infinity: int
     filtered: int
+    rejected: int
     unverified: int
     paths: int
     unknowns: int
@@ -132,7 +137,7 @@ class Solutions:
         """``{"solutions": [...], "complex": k, "paths": total, ...}`` (the ``--json`` of ``symkin modes``)."""
         return {"solutions": [s.to_dict() for s in self.solutions], "complex": self.complex, "paths": self.paths,
                 "real": len(self.solutions), "near_real": self.near_real, "at_infinity": self.at_infinity,
-                "filtered": self.filtered, "unverified": self.unverified, "unknowns": self.unknowns, "equations": self.equations,
+                "filtered": self.filtered, "rejected": self.rejected, "unverified": self.unverified, "unknowns": self.unknowns, "equations": self.equations,
                 "values": dict(self.values), "unit": self.unit, "seconds": self.seconds,
                 "track_seconds": self.track_seconds}
 
@@ -194,8 +199,8 @@ class _Checks:
 
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
-              analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0
-              ) -> Solutions:
+              analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
+              max_paths: int = 5000) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
     The assembly modes when inputs are prescribed (forward problem), the working modes when
@@ -216,6 +221,10 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
     seed : int
         Seed of the random combinations that square up an overconstrained system.
+    max_paths : int
+        Refuse (with a :class:`SymkinError` that gives the count) a homotopy of more paths
+        than this rather than run for minutes (the total degree of what is left after
+        elimination, e.g. 8192 for the 13 quadratics of the Pratt truss of the catalogue).
 
     Returns
     -------
@@ -242,6 +251,11 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     system = position_system(mech, values, unit, tol)
     n = len(system.solve_for)
     eqs = square_up(system.reduced, n, seed=seed)
+    degree = total_degree(eqs, list(system.solve_for)) if n else 1
+    if degree > max_paths:
+        raise SymkinError(f"{mech.name}: after elimination {n} unknowns and {len(eqs)} equations are left; "
+                          f"the total-degree homotopy would track {degree} paths, more than max_paths = "
+                          f"{max_paths}; raise max_paths to track them")
     t0 = time.perf_counter()
     if n:
         ends = track(eqs, list(system.solve_for))
@@ -250,7 +264,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
     ev = evaluators_for(mech, tol)
-    real_u, complex_pts, near, infinite, filtered = [], [], 0, 0, 0
+    real_u, complex_pts, near, infinite, filtered, rejected = [], [], 0, 0, 0, 0
     residuals, counts = [], []
     for v in ends:
         h = v[0]
@@ -267,8 +281,12 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
             complex_pts.append(u)
             continue
         ur, res = _newton(checks.f, checks.jac, np.array(u.real, float))
-        if im > imaginary or res > NEWTON_ACCEPT:
+        if im > imaginary:
             near += 1
+            continue
+        if res > NEWTON_ACCEPT or float(np.max(np.abs(ur - u.real), initial=0.0)) > near_real:
+            # e.g. a solution of the squared-up system only: Newton fails, or leaves for another solution
+            rejected += 1
             continue
         same = _duplicate(ur, real_u, tol.same_configuration)
         if same is not None:
@@ -288,7 +306,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     sols = _label(mech, ev, coords, residuals, counts, checks, tol, do_analyze)
     sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
     return Solutions(mech, dict(values), unit, tuple(sols), len(distinct_complex), near, infinite, filtered,
-                     len(coords) - len(sols), int(len(ends)) if n else 0, n, len(system.reduced), time.perf_counter() - start,
+                     rejected, len(coords) - len(sols), int(len(ends)) if n else 0, n, len(system.reduced), time.perf_counter() - start,
                      track_seconds)
 
 

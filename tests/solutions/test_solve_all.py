@@ -318,3 +318,21 @@ def test_dead_centre_is_one_double_solution_labelled_dkp():
     both = solve_all(m, {"rotation:crank": 0})
     assert [x.multiplicity for x in both.solutions] == [1, 1]
     assert sorted(x.types for x in both.solutions) == [(), ("DKP-output",)]
+
+
+def test_overconstrained_structure_squared_up_gives_the_square_and_its_mirror():
+    # unit square with both diagonals on A = (0, 0), B = (1, 0): 5 bars, 4 unknowns
+    m = catalogue.get("braced_square")
+    result = solve_all(m, {})
+    assert result.equations > result.unknowns  # squared up by random combinations
+    expected = [np.array([1.0, 1.0, 0.0, 1.0]), np.array([1.0, -1.0, 0.0, -1.0])]
+    assert_same_configurations(result, expected, ["C", "D"])
+    assert result.complex == 0
+    # the squared-up system has 4 real solutions (resultant: y_C ∈ {−1.318, −0.889, 0.439, 0.010} in
+    # units of the length scale); the 2 that fail the original equations are rejected, not merged
+    assert result.rejected == 2 and [s.multiplicity for s in result.solutions] == [1, 1]
+
+
+def test_too_many_paths_is_refused_with_the_count():
+    with pytest.raises(SymkinError, match="would track 8192 paths"):
+        solve_all(catalogue.get("pratt_truss"), {})
