@@ -46,7 +46,7 @@ from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
 from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
-from symkin.tolerances import DEFAULT, Tolerances
+from symkin.tolerances import Tolerances
 
 __all__ = ["Solution", "Solutions", "solve_all"]
 

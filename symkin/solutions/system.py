@@ -37,7 +37,7 @@ The original equations are kept: every solution is checked against them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
@@ -269,7 +269,6 @@ def _rotate(v, angle: float):
 
 def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
     mech, dim = b.mech, b.dim
-    idx = mech.node_index()
     names = mech.node_names
     for c, value in prescribed:
         if c.label in skip:
@@ -339,7 +338,6 @@ def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
                 b.add(owner, _dot([float(v) for v in d], x - sp.Matrix(b.model(s.node))) - value / b.scale)
         else:
             raise SymkinError(f"{c.label}: a {p.kind} value cannot be prescribed to solve the position problem")
-    del idx
 
 
 def _legs(b: _Builder, prescribed) -> list[tuple]:
@@ -409,9 +407,7 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     skip_sliders = {leg[0].id for leg in legs}
     skip_values = {leg[7] for leg in legs}
     keep = [(nm, ns) for nm, ns in mech.links if nm not in skip_links]
-    from dataclasses import replace as _replace
-
-    b.mech = _replace(mech, links=tuple(keep))
+    b.mech = replace(mech, links=tuple(keep))
     _bodies(b)
     b.mech = mech
     _sliders(b, skip_sliders)

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 import pytest
@@ -24,10 +23,6 @@ def circle_points(p, r1, q, r2):
     e = (q - p) / d
     n = np.array([-e[1], e[0]])
     return [p + a * e + h * n, p + a * e - h * n]
-
-
-def as_set(result, nodes):
-    return sorted(tuple(np.round(np.concatenate([s.configuration[n] for n in nodes]), 9)) for s in result.solutions)
 
 
 def assert_same_configurations(result, expected, nodes, scale=1.0):
