@@ -214,7 +214,6 @@ def rpr_truth():
     return roots
 
 
-@pytest.mark.slow
 def test_3rpr_forward_problem_six_real_assembly_modes():
     m, values = rpr_model()
     truth = rpr_truth()
