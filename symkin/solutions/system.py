@@ -498,15 +498,21 @@ def _linear_combinations(quadratic, unknowns, tol: Tolerances):
     rank = int(np.sum(s > tol.rank * s[0])) if s.size and s[0] > 0 else 0
     if rank == len(polys):
         return [], quadratic
-    combos = []
+    size = max(abs(float(c)) for p in polys for c in p.coeffs())
+    combos, linear = [], []
     for k in range(u.shape[1]):
         e = sp.expand(sum(float(u[i, k]) * quadratic[i] for i in range(len(quadratic))))
-        if k >= rank:  # drop the rounding left in the quadratic terms
-            p = sp.Poly(e, *unknowns)
-            e = sum((c * sp.prod([v ** d for v, d in zip(unknowns, m)]) for m, c in p.terms() if sum(m) <= 1),
-                    sp.Integer(0))
-        combos.append(e)
-    return combos[rank:], combos[:rank]
+        if k < rank:
+            combos.append(e)
+            continue
+        # drop the rounding left in the quadratic terms; a combination with nothing left beyond
+        # rounding is a redundant equation (e.g. the third component of a cross product in space)
+        p = sp.Poly(e, *unknowns)
+        terms = [(m, c) for m, c in p.terms() if sum(m) <= 1 and abs(float(c)) > tol.rank * size]
+        if terms:
+            linear.append(sum((c * sp.prod([v ** d for v, d in zip(unknowns, m)]) for m, c in terms),
+                              sp.Integer(0)))
+    return linear, combos
 
 
 def _eliminate_linear(linear, unknowns, tol: Tolerances):

@@ -330,3 +330,24 @@ def test_overconstrained_structure_squared_up_gives_the_square_and_its_mirror():
 def test_too_many_paths_is_refused_with_the_count():
     with pytest.raises(SymkinError, match="would track 8192 paths"):
         solve_all(catalogue.get("pratt_truss"), {})
+
+
+def test_spatial_moving_line_slider_redundant_cross_product_component():
+    # C slides on the line of the bar A-D (spherical at A), on the plane z = 1, and hangs on the rod E-C;
+    # with x_C prescribed: C = (1.2, ±sqrt(3 − 0.64 − 1), 1) and D = ±C/|C| on the line: 4 solutions.
+    # The line gives three bilinear components (C − A) × (D − A) = 0 of rank 2: the redundant one must go.
+    c = np.array([1.0, 1.0, 1.0])
+    m = Mechanism.from_dict({"name": "spatial leg", "dim": 3, "fixed": ["A", "E"], "mobility": 1,
+                             "inputs": [{"velocity": "C", "component": "x"}],
+                             "nodes": {"A": [0, 0, 0], "E": [2, 0, 0], "C": list(c), "D": list(c / np.linalg.norm(c))},
+                             "links": {"leg": ["A", "D"], "rod": ["E", "C"]},
+                             "sliders": [{"id": "s", "node": "C", "line": ["A", "D"], "link": "leg"},
+                                         {"id": "p", "node": "C", "point": [0, 0, 1], "normal": [0, 0, 1]}]})
+    y = math.sqrt(3.0 - 0.64 - 1.0)
+    expected = []
+    for sy in (1, -1):
+        cc = np.array([1.2, sy * y, 1.0])
+        expected += [np.concatenate([cc, sd * cc / np.linalg.norm(cc)]) for sd in (1, -1)]
+    result = solve_all(m, {"velocity:C.x": 0.2})
+    assert_same_configurations(result, expected, ["C", "D"])
+    assert result.complex == 0 and result.rejected == 0
