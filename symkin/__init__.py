@@ -50,12 +50,23 @@ def load_map(path):
     return _load_map(path)
 
 
+def solve_all(mechanism, *args, **kwargs):
+    """Every real solution of the position problem: see :func:`symkin.solutions.solve_all.solve_all`.
+
+    Needs the optional extra ``symkin[global]`` (Bertini 2, GPL-3); without it a
+    :class:`SymkinError` names the extra.
+    """
+    from symkin.solutions import solve_all as _solve_all
+
+    return _solve_all(mechanism, *args, **kwargs)
+
+
 from symkin.tolerances import Tolerances
 
 __version__ = "0.1.0"
 
 __all__ = ["Analysis", "Evaluators", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "trace", "catalogue", "evaluators", "symbolic_model", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "analyze", "trace", "solve_all", "catalogue", "evaluators", "symbolic_model", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
            "write_model", "workspace_map", "load_map",
            "__version__"]

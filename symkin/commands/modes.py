@@ -1,0 +1,80 @@
+"""``symkin modes MODEL --at LABEL=VALUE [--at ...] [--unit deg|rad] [--json]``: every real solution of the position problem."""
+from __future__ import annotations
+
+import json
+
+from symkin.commands import Output
+from symkin.commands.analyze import tolerance
+from symkin.commands.path import _in_file
+from symkin.errors import SymkinError
+from symkin.model.model_file import read_model
+
+NAME = "modes"
+HELP = ("every real configuration with given input or output values (assembly / working modes), by "
+        "homotopy continuation; needs the extra symkin[global]")
+
+
+def add_arguments(p) -> None:
+    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("--at", metavar="LABEL=VALUE", action="append", default=[],
+                   help="a prescribed value, measured from the model's configuration, e.g. rotation:crank=30 "
+                        "(repeat: exactly F values)")
+    p.add_argument("--unit", choices=("deg", "rad"), default="deg",
+                   help="unit of angle values (default deg; lengths are in model units)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--analyze", action="store_true", help="classify every solution (symkin analyze)")
+    p.add_argument("--max-paths", type=int, default=5000,
+                   help="refuse a homotopy of more paths than this (default 5000)")
+    p.add_argument("--tol", type=tolerance, default=None,
+                   help="relative rank tolerance of the DKP labels (default 1e-8)")
+
+
+def parse_values(items: list[str]) -> dict[str, float]:
+    """``["rotation:crank=30", ...]`` → ``{"rotation:crank": 30.0}``; a clear error for a bad item."""
+    out: dict[str, float] = {}
+    for item in items:
+        label, sep, text = item.rpartition("=")
+        if not sep or not label:
+            raise SymkinError(f"--at {item!r}: expected LABEL=VALUE, e.g. rotation:crank=30")
+        try:
+            value = float(text)
+        except ValueError:
+            raise SymkinError(f"--at {item!r}: {text!r} is not a number") from None
+        if label in out:
+            raise SymkinError(f"--at {label}: given twice")
+        out[label] = value
+    return out
+
+
+def _text(result) -> str:
+    mech = result.mechanism
+    lines = [f"{mech.name}: {len(result.solutions)} real solution(s) at "
+             + ", ".join(f"{k} = {v:g}" for k, v in result.values.items())
+             + f" ({result.unit} for angles); {result.complex} complex, {result.near_real} near-real, "
+               f"{result.at_infinity} at infinity; {result.paths} paths tracked in {result.track_seconds:.2f} s "
+               f"({result.seconds:.2f} s in all).", ""]
+    for k, s in enumerate(result.solutions, 1):
+        signs = ", ".join(f"{key} {'' if v is None else ('+' if v > 0 else '-' if v < 0 else '0')}"
+                          f"{'undefined' if v is None else ''}" for key, v in s.signs.items())
+        kinds = f"; types: {', '.join(s.types)}" if s.types else ""
+        lines.append(f"{k}. signs: {signs}{kinds}; residual {s.residual:.1e}")
+        for n in mech.free_nodes:
+            lines.append(f"   {n} = ({', '.join(f'{c:.10g}' for c in s.configuration[n])})")
+        if s.analysis is not None:
+            lines.append(f"   analysis: L = {s.analysis.dof}, types: {', '.join(s.analysis.types) or 'none'}")
+    return "\n".join(lines)
+
+
+def run(args) -> Output:
+    from symkin.solutions import solve_all
+
+    mech = read_model(args.model)
+    values = parse_values(args.at)
+    try:
+        result = solve_all(mech, values, unit=args.unit, tol=args.tol, analyze=args.analyze,
+                           max_paths=args.max_paths)
+    except SymkinError as exc:
+        raise _in_file(exc, args.model)
+    if args.json:
+        return Output(json.dumps(result.to_dict(), indent=1))
+    return Output(_text(result))

@@ -1,0 +1,87 @@
+"""Homotopy continuation through Bertini 2's Python package (the optional extra ``symkin[global]``).
+
+``bertini`` (GPL-3) is imported here only, inside :func:`track`, so every other part of
+symkin works without it.  Its zero-dimensional algorithm tracks one path per solution of
+a total-degree start system (products of the equations' degrees) with the Cauchy endgame
+in double precision; it has no multihomogeneous start system, so the number of paths is
+kept down by eliminating linear equations before (:mod:`symkin.solutions.system`).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+
+from symkin.errors import SymkinError
+
+__all__ = ["require_solver", "square_up", "track", "total_degree"]
+
+EXTRA = 'pip install -e ".[global]"'
+
+
+def require_solver():
+    """The ``bertini`` module, or a :class:`SymkinError` naming the extra to install."""
+    try:
+        import bertini
+    except ImportError:
+        raise SymkinError("all solutions of the position problem need the homotopy-continuation solver "
+                          f"Bertini 2 (package 'bertini', GPL-3), an optional extra: {EXTRA} "
+                          "(or pip install 'symkin[global]')") from None
+    return bertini
+
+
+def square_up(equations, n: int, seed: int = 0):
+    """``n`` random linear combinations of ``equations`` (fixed seed), as numerical algebraic geometry does.
+
+    Every isolated solution of the original system is a solution of the squared-up one;
+    the converse fails, so the caller checks every solution against the original equations.
+    Equations are sorted by degree and the combination is triangular (the ``i``-th keeps
+    equation ``i`` with weight 1 and adds random multiples of the ones after ``n``), so
+    the total degree does not grow beyond the product of the first ``n`` degrees.
+    """
+    eqs = sorted(equations, key=lambda e: -sp.Poly(e).total_degree())
+    if len(eqs) <= n:
+        return list(eqs)
+    rng = np.random.default_rng(seed)
+    head, tail = eqs[:n], eqs[n:]
+    w = rng.standard_normal((n, len(tail)))
+    return [sp.expand(h + sum(float(w[i, j]) * t for j, t in enumerate(tail))) for i, h in enumerate(head)]
+
+
+def total_degree(equations, unknowns) -> int:
+    """Number of paths of the total-degree homotopy: the product of the degrees."""
+    return math.prod(sp.Poly(e, *unknowns).total_degree() for e in equations)
+
+
+def _to_bertini(bertini, poly: sp.Poly, variables):
+    Float = bertini.multiprec.Float
+    expr = None
+    for monom, coeff in poly.terms():
+        term = Float(repr(float(coeff)))
+        for v, e in zip(variables, monom):
+            for _ in range(e):
+                term = term * v
+        expr = term if expr is None else expr + term
+    return expr
+
+
+def track(equations, unknowns) -> np.ndarray:
+    """Every endpoint of the total-degree homotopy for the square system ``equations = 0``.
+
+    Returns a complex (paths, n + 1) array of projective endpoints: column 0 is the
+    homogenising coordinate (near 0 for a path that diverges to infinity), the affine
+    point is ``v[1:] / v[0]``.
+    """
+    bertini = require_solver()
+    if len(equations) != len(unknowns):
+        raise ValueError("track needs a square system")
+    names = [bertini.Variable(f"v{k}") for k in range(len(unknowns))]
+    system = bertini.System()
+    for e in equations:
+        system.add_function(_to_bertini(bertini, sp.Poly(e, *unknowns), names))
+    system.add_variable_group(bertini.VariableGroup(names))
+    alg = bertini.nag_algorithm.ZeroDimCauchyDoublePrecisionTotalDegree(system)
+    alg.solve()
+    return np.array([[complex(c) for c in v] for v in alg.solutions()], dtype=complex).reshape(
+        -1, len(unknowns) + 1)

@@ -1,0 +1,346 @@
+"""Every real solution of the position problem (``symkin.solve_all``): assembly and working modes.
+
+The polynomial system of :mod:`symkin.solutions.system` (reduced by its linear equations)
+is solved by homotopy continuation (:mod:`symkin.solutions.homotopy`, Bertini 2).  Every
+finite endpoint is sorted, in the dimensionless coordinates ``u = (x − c) / L`` of the
+model's length scale ``L`` (so the decisions do not depend on the unit of length):
+
+* **real** when ``max |Im u| <= imaginary`` (default ``1e-8``) and Newton's method on the
+  *original* equations (least-squares steps, so an overconstrained system is fine), started
+  from ``Re u``, reaches a residual ``<= 1e-12`` (accepted up to ``1e-10``); it is then verified:
+  the closure residual of the evaluators (:func:`symkin.evaluators`, relative to ``L``), the
+  prescribed values recomputed by :mod:`symkin.paths.coordinates`, and the half-line filters
+  of prescribed angles (a solution on the opposite half-line is counted in ``filtered``);
+* **near-real** when ``imaginary < max |Im u| <= near_real`` (default ``1e-4``): counted, not
+  returned;
+* **rejected** when it is real but Newton on the original equations does not bring the residual
+  below ``1e-10`` or moves it by more than ``near_real`` (a solution of the squared-up system
+  only, which Newton's least-squares steps carry to a true one): counted, not returned;
+* **complex** otherwise (distinct endpoints counted);
+* **at infinity** when the homogenising coordinate vanishes (counted).
+
+``near_real``, ``rejected``, ``at_infinity`` and ``filtered`` count paths; ``complex`` counts distinct
+endpoints; paths ending at one real solution are its ``multiplicity``.
+
+A real solution whose closure residual or prescribed-value error exceeds ``VERIFY`` after
+Newton is dropped and counted in ``unverified`` (a bug if it ever happens).
+
+Real solutions closer than :attr:`Tolerances.same_configuration` (relative to ``L``) are one;
+each is labelled by the signs of the DKP test functions (:meth:`Evaluators.batch`:
+``+1``/``-1``, ``0`` at a DKP configuration, ``None`` where undefined) and, with
+``analyze=True``, analysed by :func:`symkin.analyze`.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from symkin.analysis.batch import evaluators_for
+from symkin.analysis.classification import Analysis, analyze as _analyze
+from symkin.errors import SymkinError
+from symkin.model.mechanism import Mechanism
+from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
+from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
+from symkin.tolerances import Tolerances
+
+__all__ = ["Solution", "Solutions", "solve_all"]
+
+#: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
+NEWTON_TARGET = 1e-12
+NEWTON_ACCEPT = 1e-10
+#: largest closure residual (relative) and prescribed-value error (rad, or relative) of a verified solution
+VERIFY = 1e-8
+
+
+@dataclass(frozen=True)
+class Solution:
+    """One real configuration with the prescribed values.
+
+    Attributes
+    ----------
+    configuration : dict
+        Node → coordinates (model units), every node.
+    signs : dict
+        ``{"dkp_input": s, "dkp_output": s}`` with ``s`` in ``{+1, -1, 0, None}``: the sign of the
+        signed DKP test function, 0 at a DKP configuration, None where it is undefined (no
+        such parameters, or an IM configuration).
+    residual : float
+        Largest residual of the original polynomial equations after Newton (dimensionless).
+    closure : float
+        Largest closure residual of the evaluators, divided by the length scale.
+    types : tuple of str
+        IM / DKP types decided by :meth:`Evaluators.batch`.
+    multiplicity : int
+        Number of homotopy paths that ended at this solution (2 or more at a singular
+        solution, e.g. the two assembly modes of a four-bar meeting at a dead centre).
+    analysis : Analysis or None
+        :func:`symkin.analyze` at the configuration, with ``analyze=True``.
+    """
+
+    configuration: dict
+    signs: dict
+    residual: float
+    closure: float
+    types: tuple = ()
+    multiplicity: int = 1
+    analysis: Analysis | None = field(default=None, compare=False)
+
+    def to_dict(self) -> dict:
+        out: dict[str, Any] = {"configuration": {n: list(x) for n, x in self.configuration.items()},
+                               "signs": dict(self.signs), "residual": self.residual,
+                               "closure": self.closure, "types": list(self.types),
+                               "multiplicity": self.multiplicity}
+        if self.analysis is not None:
+            out["analysis"] = {"types": list(self.analysis.types), "dof": self.analysis.dof}
+        return out
+
+
+@dataclass(frozen=True)
+class Solutions:
+    """All solutions of a position problem (see the module docstring for the counts).
+
+    ``paths`` is the number of homotopy paths tracked; ``unknowns`` and ``equations`` the size
+    of the system given to the solver (after elimination; ``equations > unknowns`` before
+    squaring up when the model is overconstrained); ``seconds`` the wall time of
+    :func:`solve_all`, ``track_seconds`` that of the homotopy alone.
+    """
+
+    mechanism: Mechanism
+    values: dict
+    unit: str
+    solutions: tuple[Solution, ...]
+    complex: int
+    near_real: int
+    at_infinity: int
+    filtered: int
+    rejected: int
+    unverified: int
+    paths: int
+    unknowns: int
+    equations: int
+    seconds: float
+    track_seconds: float
+
+    def __len__(self) -> int:
+        return len(self.solutions)
+
+    def mechanisms(self) -> tuple[Mechanism, ...]:
+        """The mechanism at each solution."""
+        return tuple(self.mechanism.with_coordinates(s.configuration) for s in self.solutions)
+
+    def to_dict(self) -> dict:
+        """``{"solutions": [...], "complex": k, "paths": total, ...}`` (the ``--json`` of ``symkin modes``)."""
+        return {"solutions": [s.to_dict() for s in self.solutions], "complex": self.complex, "paths": self.paths,
+                "real": len(self.solutions), "near_real": self.near_real, "at_infinity": self.at_infinity,
+                "filtered": self.filtered, "rejected": self.rejected, "unverified": self.unverified, "unknowns": self.unknowns, "equations": self.equations,
+                "values": dict(self.values), "unit": self.unit, "seconds": self.seconds,
+                "track_seconds": self.track_seconds}
+
+
+def _newton(f, jac, u: np.ndarray, max_iterations: int = 30) -> tuple[np.ndarray, float]:
+    """Least-squares Newton on the original equations; returns the point and its residual."""
+    best_u, best = u, float(np.max(np.abs(f(u)))) if u.size else 0.0
+    for _ in range(max_iterations):
+        r = np.asarray(f(u), float)
+        res = float(np.max(np.abs(r)))
+        if res < best:
+            best_u, best = u, res
+        if res <= NEWTON_TARGET:
+            break
+        step = np.linalg.lstsq(np.asarray(jac(u), float), -r, rcond=None)[0]
+        if not np.all(np.isfinite(step)):
+            break
+        u = u + step
+        if np.max(np.abs(step)) <= 1e-15:
+            break
+    r = float(np.max(np.abs(f(u))))
+    return (u, r) if r <= best else (best_u, best)
+
+
+class _Checks:
+    """Newton, filters and the prescribed values, compiled once per system."""
+
+    def __init__(self, system: PolynomialSystem, prescribed):
+        u = list(system.unknowns)
+        eqs = [e for _, e in system.equations]
+        f = sp.lambdify([u], eqs, "numpy")
+        j = sp.lambdify([u], sp.Matrix(eqs).jacobian(u), "numpy")
+        self.f = lambda v: np.array(f(v), float).ravel()
+        self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
+        self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy")
+        self.prescribed = prescribed
+        self.system = system
+        import casadi as ca
+
+        mech = system.mechanism
+        x = ca.SX.sym("x", len(mech.nodes) * mech.dim)
+        x0 = np.array([c for _, c in mech.nodes], float)
+        self.values = ca.Function("values", [x], [ca.vertcat(*[c.expression(mech, x, x0) for c, _ in prescribed])])
+
+    def value_error(self, coords: dict) -> float:
+        """Largest difference between the prescribed and the recomputed values (rad, or lengths / L)."""
+        mech = self.system.mechanism
+        x = np.concatenate([coords[n] for n in mech.node_names])
+        got = np.array(self.values(x)).ravel()
+        err = 0.0
+        for (c, target), v in zip(self.prescribed, got):
+            d = v - target
+            if c.kind == "angle":
+                d = math.remainder(d, 2 * math.pi)
+            else:
+                d = d / self.system.scale
+            err = max(err, abs(d))
+        return err
+
+
+def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
+              analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
+              max_paths: int = 5000) -> Solutions:
+    """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
+
+    The assembly modes when inputs are prescribed (forward problem), the working modes when
+    outputs are (inverse problem).  Needs the optional extra ``symkin[global]`` (Bertini 2).
+
+    Parameters
+    ----------
+    values : dict
+        Exactly F labels (``rotation:crank``, ``slide:S``, ``velocity:P.x``, ``joint:L1-L2``; see
+        :func:`symkin.paths.coordinates.parse_input_label`) → values measured from the model's
+        configuration (angles in ``unit``, lengths in model units), as for
+        :func:`symkin.paths.position.solve_position`.
+    tol : float or Tolerances
+        Rank tolerance of the DKP labels and the analysis; ``same_configuration`` merges duplicates.
+    analyze : bool
+        Also run :func:`symkin.analyze` at every solution (``Solution.analysis``).
+    imaginary, near_real : float
+        Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
+    seed : int
+        Seed of the random combinations that square up an overconstrained system.
+    max_paths : int
+        Refuse (with a :class:`SymkinError` that gives the count) a homotopy of more paths
+        than this rather than run for minutes (the total degree of what is left after
+        elimination, e.g. 8192 for the 13 quadratics of the Pratt truss of the catalogue).
+
+    Returns
+    -------
+    Solutions
+
+    Raises
+    ------
+    SymkinError
+        Unknown label, a number of values other than F, an unsupported value, or the solver
+        is not installed (the message names the extra).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> result = solve_all(get("fourbar_appendix"), {"rotation:crank": 30}, unit="deg")  # doctest: +SKIP
+    >>> len(result.solutions), result.paths  # doctest: +SKIP
+    (2, 4)
+    """
+    start = time.perf_counter()
+    tol = Tolerances.of(tol)
+    do_analyze = bool(analyze)
+    prescribed = prescribed_coordinates(mech, values, unit)
+    require_solver()
+    system = position_system(mech, values, unit, tol)
+    n = len(system.solve_for)
+    eqs = square_up(system.reduced, n, seed=seed)
+    degree = total_degree(eqs, list(system.solve_for)) if n else 1
+    if degree > max_paths:
+        raise SymkinError(f"{mech.name}: after elimination {n} unknowns and {len(eqs)} equations are left; "
+                          f"the total-degree homotopy would track {degree} paths, more than max_paths = "
+                          f"{max_paths}; raise max_paths to track them")
+    t0 = time.perf_counter()
+    if n:
+        ends = track(eqs, list(system.solve_for))
+    else:
+        ends = np.ones((1, 1), complex)
+    track_seconds = time.perf_counter() - t0
+    checks = _Checks(system, prescribed)
+    ev = evaluators_for(mech, tol)
+    real_u, complex_pts, near, infinite, filtered, rejected = [], [], 0, 0, 0, 0
+    residuals, counts = [], []
+    for v in ends:
+        h = v[0]
+        if abs(h) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
+            infinite += 1
+            continue
+        w = v[1:] / h
+        if not np.all(np.isfinite(w)) or float(np.max(np.abs(w), initial=0.0)) > 1e8:
+            infinite += 1
+            continue
+        u = system.recover(w)
+        im = float(np.max(np.abs(u.imag), initial=0.0))
+        if im > near_real:
+            complex_pts.append(u)
+            continue
+        ur, res = _newton(checks.f, checks.jac, np.array(u.real, float))
+        if im > imaginary:
+            near += 1
+            continue
+        if res > NEWTON_ACCEPT or float(np.max(np.abs(ur - u.real), initial=0.0)) > near_real:
+            # e.g. a solution of the squared-up system only: Newton fails, or leaves for another solution
+            rejected += 1
+            continue
+        same = _duplicate(ur, real_u, tol.same_configuration)
+        if same is not None:
+            counts[same] += 1
+            continue
+        if any(float(fv) <= tol.geometry for fv in np.atleast_1d(checks.filters(ur))):
+            filtered += 1
+            continue
+        real_u.append(ur)
+        residuals.append(res)
+        counts.append(1)
+    distinct_complex = []
+    for u in complex_pts:
+        if _duplicate(u, distinct_complex, 1e-6) is None:
+            distinct_complex.append(u)
+    coords = [system.coordinates(u) for u in real_u]
+    sols = _label(mech, ev, coords, residuals, counts, checks, tol, do_analyze)
+    sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
+    return Solutions(mech, dict(values), unit, tuple(sols), len(distinct_complex), near, infinite, filtered,
+                     rejected, len(coords) - len(sols), int(len(ends)) if n else 0, n, len(system.reduced), time.perf_counter() - start,
+                     track_seconds)
+
+
+def _duplicate(u, seen, distance: float) -> int | None:
+    """Index of the first of ``seen`` within ``distance`` (max norm) of ``u``, else None."""
+    for k, s in enumerate(seen):
+        if float(np.max(np.abs(u - s))) <= distance:
+            return k
+    return None
+
+
+def _sign(value: float, decided: bool):
+    if decided:
+        return 0
+    if not math.isfinite(value):
+        return None
+    return 1 if value > 0 else -1
+
+
+def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances, do_analyze: bool) -> list[Solution]:
+    if not coords:
+        return []
+    q = np.array([[c[n][a] for n in mech.free_nodes for a in range(mech.dim)] for c in coords])
+    result = ev.batch(q, tol=tol)
+    out = []
+    scale = checks.system.scale
+    for k, c in enumerate(coords):
+        phi = np.array(ev("closure", q[k])["phi"], float).ravel()
+        closure = float(np.max(np.abs(phi), initial=0.0)) / scale
+        err = checks.value_error(c)
+        if err > VERIFY or closure > VERIFY:
+            continue  # counted as unverified by the caller
+        signs = {"dkp_input": _sign(float(result.dkp_input[k]), bool(result.is_dkp_input[k])),
+                 "dkp_output": _sign(float(result.dkp_output[k]), bool(result.is_dkp_output[k]))}
+        analysis = _analyze(mech.with_coordinates(c), tol=tol) if do_analyze else None
+        out.append(Solution(c, signs, float(residuals[k]), closure, result.types(k), counts[k], analysis))
+    return out

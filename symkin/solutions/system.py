@@ -1,0 +1,545 @@
+"""The position problem as a polynomial system in the nodal coordinates of the free nodes.
+
+Built from the model data alone (no per-mechanism equations).  Coordinates are made
+dimensionless, ``x = c + L·u`` (``c`` the centroid of the model's nodes, ``L`` its length
+scale, :attr:`symkin.Mechanism.length_scale`), so the system, its tolerances and its
+solution count do not depend on the unit of length.
+
+Equations (``d`` a difference of node positions, all in ``u``):
+
+* a **rigid body** of ``k`` nodes (a link): planar, one distance between two frame nodes
+  ``|x_1 − x_0|² = l²`` and, for every other node, its affine coordinates in the frame,
+  ``x_m = x_0 + α e + β J e`` (``e = x_1 − x_0``, ``J`` the quarter turn): ``2k − 3``
+  equations of which only one is quadratic.  Spatial, three distances between three frame
+  nodes and ``x_m = x_0 + α e_1 + β e_2 + γ e_1 × e_2`` (``3k − 6``; quadratic when ``γ ≠ 0``);
+  collinear bodies use one distance and ``x_m = x_0 + α e``;
+* a **slider** on a fixed line or plane: ``n · (x − p) = 0`` for the normals ``n`` (linear); on
+  the moving line through nodes A, C: ``(x − x_A) × (x_C − x_A) = 0`` (bilinear);
+* a **prescribed value** (an input coordinate of :mod:`symkin.paths.coordinates`, measured
+  from the model's configuration): a node coordinate (linear); a planar link angle θ —
+  ``(x_j − x_i) · (−sin θ, cos θ) = 0`` (linear) with the half-line filter
+  ``(x_j − x_i) · (cos θ, sin θ) > 0``; a planar joint angle (bilinear, with its half-line
+  filter); a spatial rotation about a fixed axis (linear in the node farthest from the
+  axis, with its half-line filter); a slide on a fixed line (linear) or on a moving line
+  (``(x − x_A) · (x_C − x_A) = s·|AC|``, bilinear).
+
+The reduced system given to the homotopy keeps the number of paths down: a prescribed planar
+link angle (or planar joint angle, or rotation about a fixed axis of a link that holds the
+axis) becomes linear once the link's fixed length is used, ``x_j − x_i = l (cos θ, sin θ)``;
+every linear equation is substituted; and so is every combination of the quadratic equations
+free of quadratic terms (the difference of two circles about one node), until none is left
+(:func:`_reduce`).  One more reduction concerns prismatic legs: a free node D that
+appears only in a two-node link [A, D] pivoted at a fixed node A and as the line of one
+moving-line slider of node C whose slide ``ρ`` is prescribed, is determined by C
+(``D = A + l (C − A) / ρ``); its three equations are replaced by ``|x_C − x_A|² = ρ²``.
+The original equations are kept: every solution is checked against them.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import sympy as sp
+
+from symkin.errors import SymkinError
+from symkin.model.mechanism import AXES, Mechanism
+from symkin.paths.coordinates import InputCoordinate, _axis_angle_setup, _pair, parse_input_label
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["PolynomialSystem", "position_system", "prescribed_coordinates"]
+
+
+@dataclass(frozen=True, eq=False)
+class PolynomialSystem:
+    """The position problem in dimensionless free coordinates ``u`` (``x = center + scale·u``).
+
+    Attributes
+    ----------
+    unknowns : tuple of sympy.Symbol
+        ``u_<axis>_<node>`` for every free node, in :attr:`Mechanism.free_nodes` order.
+    equations : tuple of (str, sympy.Expr)
+        The original equations with their owners (``link:crank``, ``slider:S``, ``value:<label>``).
+    filters : tuple of (str, sympy.Expr)
+        Half-line conditions ``expr > 0`` a real solution must satisfy.
+    reduced : tuple of sympy.Expr
+        The equations left after the reduction of prismatic legs and the substitution of
+        every linear equation, in the symbols ``solve_for``.
+    solve_for : tuple of sympy.Symbol
+        The unknowns left for the homotopy.
+    recover : callable
+        ``recover(v)`` → the full vector ``u`` (numpy, real or complex) from values of ``solve_for``.
+    """
+
+    mechanism: Mechanism
+    center: np.ndarray
+    scale: float
+    unknowns: tuple
+    equations: tuple
+    filters: tuple
+    reduced: tuple
+    solve_for: tuple
+    recover: object = field(repr=False)
+
+    @property
+    def overconstrained(self) -> bool:
+        """More reduced equations than unknowns (squared up before the homotopy)."""
+        return len(self.reduced) > len(self.solve_for)
+
+    def coordinates(self, u: np.ndarray) -> dict[str, list[float]]:
+        """Node name → coordinates (model units) of every node at the dimensionless free vector ``u``."""
+        mech = self.mechanism
+        out = {n: list(map(float, x)) for n, x in mech.nodes}
+        dim = mech.dim
+        for k, n in enumerate(mech.free_nodes):
+            out[n] = [float(self.center[a] + self.scale * u[k * dim + a]) for a in range(dim)]
+        return out
+
+
+def _symbols(mech: Mechanism):
+    return [sp.Symbol(f"u_{AXES[a]}_{n}") for n in mech.free_nodes for a in range(mech.dim)]
+
+
+def prescribed_coordinates(mech: Mechanism, values: dict, unit: str = "rad") -> list[tuple[InputCoordinate, float]]:
+    """The input coordinates named by ``values`` and their values (angles in radians).
+
+    Raises :class:`SymkinError` for an unknown label, a bad unit, or a number of values other
+    than the mobility F (too few: the solutions form curves, not points; too many: the
+    problem is overdetermined).
+    """
+    if unit not in ("rad", "deg"):
+        raise SymkinError(f"unit must be 'rad' or 'deg', got {unit!r}")
+    out = []
+    for label, v in values.items():
+        c = parse_input_label(mech, label)
+        try:
+            value = float(v)
+        except (TypeError, ValueError):
+            raise SymkinError(f"{label}: the value {v!r} is not a number") from None
+        if not math.isfinite(value):
+            raise SymkinError(f"{label}: the value {v!r} is not finite")
+        out.append((c, value * (math.pi / 180.0 if unit == "deg" and c.kind == "angle" else 1.0)))
+    f = mech.mobility_value
+    names = ", ".join(values) or "none"
+    if len(out) < f:
+        raise SymkinError(f"{mech.name}: F = {f} but {len(out)} value(s) given ({names}): the solutions are not "
+                          f"isolated points; prescribe {f - len(out)} more (e.g. the model's inputs "
+                          f"{', '.join(c.label for c in _inputs(mech))})")
+    if len(out) > f:
+        raise SymkinError(f"{mech.name}: F = {f} but {len(out)} values given ({names}): too many values, "
+                          f"the position problem is overdetermined; prescribe exactly {f}")
+    labels = [c.label for c, _ in out]
+    if len(set(labels)) < len(labels):
+        raise SymkinError(f"{mech.name}: a value is given twice ({names})")
+    return out
+
+
+def _inputs(mech):
+    from symkin.paths.coordinates import input_coordinates
+
+    try:
+        return input_coordinates(mech)
+    except SymkinError:
+        return ()
+
+
+class _Builder:
+    def __init__(self, mech: Mechanism, tol: Tolerances):
+        self.mech = mech
+        self.tol = tol
+        self.dim = mech.dim
+        xyz = np.array([c for _, c in mech.nodes], float)
+        self.center = xyz.mean(axis=0)
+        self.scale = float(mech.length_scale)
+        self.x0 = {n: np.array(c, float) for n, c in mech.nodes}
+        self.u = _symbols(mech)
+        free = mech.free_nodes
+        self.index = {n: k for k, n in enumerate(free)}
+        self.equations: list[tuple[str, sp.Expr]] = []
+        self.filters: list[tuple[str, sp.Expr]] = []
+
+    def node(self, n: str):
+        """Dimensionless position of node ``n``: symbols for a free node, numbers for a fixed one."""
+        if n in self.index:
+            k = self.index[n]
+            return sp.Matrix(self.u[k * self.dim:(k + 1) * self.dim])
+        return sp.Matrix([float(v) for v in (self.x0[n] - self.center) / self.scale])
+
+    def model(self, n: str) -> np.ndarray:
+        return (self.x0[n] - self.center) / self.scale
+
+    def add(self, owner: str, expr) -> None:
+        expr = sp.expand(expr)
+        if not expr.free_symbols:  # between fixed nodes: holds in the model, nothing to solve
+            return
+        self.equations.append((owner, expr))
+
+
+def _dot(a, b):
+    return sum(a[i] * b[i] for i in range(len(a)))
+
+
+def _frame(points: list[np.ndarray], geometry: float) -> tuple[list[int], int]:
+    """Indices of frame nodes (farthest pair, then farthest from their line) and the body's rank."""
+    k = len(points)
+    pairs = [(np.linalg.norm(points[i] - points[j]), i, j) for i in range(k) for j in range(i + 1, k)]
+    d, i, j = max(pairs)
+    if d <= geometry:
+        return [i], 0
+    e = (points[j] - points[i]) / d
+    off = [(np.linalg.norm((points[m] - points[i]) - ((points[m] - points[i]) @ e) * e), m)
+           for m in range(k) if m not in (i, j)]
+    if not off or max(off)[0] <= geometry * max(d, 1.0):
+        return [i, j], 1
+    return [i, j, max(off)[1]], 2
+
+
+def _bodies(b: _Builder) -> None:
+    mech, dim = b.mech, b.dim
+    fixed = set(mech.fixed)
+    geometry = b.tol.geometry
+    for name, ns in mech.links:
+        if all(n in fixed for n in ns):
+            continue
+        owner = f"link:{name}"
+        pts = [b.model(n) for n in ns]
+        frame, rank = _frame(pts, geometry)
+        if rank == 0:
+            raise SymkinError(f"{mech.name}: link {name} has all its nodes at one point")
+        if dim == 2 and rank == 2:
+            frame = frame[:2]
+        for a in range(len(frame)):
+            for c in range(a + 1, len(frame)):
+                p, q = ns[frame[a]], ns[frame[c]]
+                d = b.node(q) - b.node(p)
+                b.add(owner, _dot(d, d) - float(np.sum((pts[frame[c]] - pts[frame[a]]) ** 2)))
+        x0 = b.node(ns[frame[0]])
+        e = [b.node(ns[f]) - x0 for f in frame[1:]]
+        e_model = [pts[f] - pts[frame[0]] for f in frame[1:]]
+        if dim == 2 and len(e) == 1 and rank >= 1:
+            e.append(sp.Matrix([-e[0][1], e[0][0]]))
+            e_model.append(np.array([-e_model[0][1], e_model[0][0]]))
+        elif dim == 3 and len(e) == 2:
+            e.append(e[0].cross(e[1]))
+            e_model.append(np.cross(e_model[0], e_model[1]))
+        basis = np.column_stack(e_model)
+        for m, n in enumerate(ns):
+            if m in frame:
+                continue
+            coef = np.linalg.lstsq(basis, pts[m] - pts[frame[0]], rcond=None)[0]
+            target = x0 + sum((float(w) * v for w, v in zip(coef, e)), sp.zeros(dim, 1))
+            for r in b.node(n) - target:
+                b.add(owner, r)
+
+
+def _normals(direction: np.ndarray) -> list[np.ndarray]:
+    d = direction / np.linalg.norm(direction)
+    if d.size == 2:
+        return [np.array([-d[1], d[0]])]
+    q, _ = np.linalg.qr(np.column_stack([d, np.eye(3)]))
+    return [q[:, 1], q[:, 2]]
+
+
+def _sliders(b: _Builder, skip: set) -> None:
+    for s in b.mech.sliders:
+        if s.id in skip:
+            continue
+        owner = f"slider:{s.id}"
+        x = b.node(s.node)
+        if s.kind == "moving_line":
+            a, c = b.node(s.line[0]), b.node(s.line[1])
+            r, u = x - a, c - a
+            if b.dim == 2:
+                b.add(owner, r[0] * u[1] - r[1] * u[0])
+            else:
+                for comp in r.cross(u):
+                    b.add(owner, comp)
+            continue
+        p = (np.array(s.point, float) - b.center) / b.scale
+        normals = [np.array(s.normal, float) / np.linalg.norm(s.normal)] if s.kind == "plane" \
+            else _normals(np.array(s.direction, float))
+        for n in normals:
+            b.add(owner, _dot([float(v) for v in n], x - sp.Matrix(p)))
+
+
+def _rotate(v, angle: float):
+    c, s = math.cos(angle), math.sin(angle)
+    return sp.Matrix([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
+    mech, dim = b.mech, b.dim
+    names = mech.node_names
+    for c, value in prescribed:
+        if c.label in skip:
+            continue
+        owner = f"value:{c.label}"
+        p = c.parameter
+        if p.kind == "rotation" and dim == 2:
+            i, j = _pair(mech, p.target[0])
+            d = b.node(names[j]) - b.node(names[i])
+            d0 = b.model(names[j]) - b.model(names[i])
+            phi = math.atan2(d0[1], d0[0]) + value
+            if reduce:  # |x_j − x_i| is fixed in the link: the half-line is one point
+                length = float(np.linalg.norm(d0))
+                b.add(owner, d[0] - length * math.cos(phi))
+                b.add(owner, d[1] - length * math.sin(phi))
+                continue
+            b.add(owner, -math.sin(phi) * d[0] + math.cos(phi) * d[1])
+            b.filters.append((owner, math.cos(phi) * d[0] + math.sin(phi) * d[1]))
+        elif p.kind == "joint":
+            (i1, j1), (i2, j2) = _pair(mech, p.target[0]), _pair(mech, p.target[1])
+            d1 = b.node(names[j1]) - b.node(names[i1])
+            d2 = b.node(names[j2]) - b.node(names[i2])
+            m1 = b.model(names[j1]) - b.model(names[i1])
+            m2 = b.model(names[j2]) - b.model(names[i2])
+            psi = math.atan2(m2[1], m2[0]) - math.atan2(m1[1], m1[0]) + value
+            r = _rotate(d1, psi)
+            if reduce:  # both lengths are fixed: d2 = (l2 / l1) R(ψ) d1
+                ratio = float(np.linalg.norm(m2) / np.linalg.norm(m1))
+                for comp in d2 - ratio * r:
+                    b.add(owner, comp)
+                continue
+            b.add(owner, r[0] * d2[1] - r[1] * d2[0])
+            b.filters.append((owner, _dot(r, d2)))
+        elif p.kind == "rotation":
+            axis, origin, k = _axis_angle_setup(mech, p)
+            o = (origin - b.center) / b.scale
+            r0 = b.model(names[k]) - o
+            r0 = r0 - (r0 @ axis) * axis
+            turned = math.cos(value) * r0 + math.sin(value) * np.cross(axis, r0)
+            normal = np.cross(axis, turned)
+            r = b.node(names[k]) - sp.Matrix(o)
+            link_fixed = set(mech.link_nodes(p.target[0])) & set(mech.fixed)
+            if reduce and isinstance(p.axis[0], str) and set(p.axis) <= link_fixed:
+                # the link turns about its fixed axis: the node's position is known, x = o + (r0·a) a + R r0⊥
+                along = float((b.model(names[k]) - o) @ axis)
+                for comp, target in zip(r, along * axis + turned):
+                    b.add(owner, comp - float(target))
+                continue
+            b.add(owner, _dot([float(v) for v in normal], r))
+            b.filters.append((owner, _dot([float(v) for v in turned], r)))
+        elif p.kind == "velocity":
+            axis = AXES.index(p.component) if p.component else c.component
+            n = p.target[0]
+            b.add(owner, b.node(n)[axis] - float(b.model(n)[axis]) - value / b.scale)
+        elif p.kind == "slide":
+            s = mech.slider(p.target[0])
+            x = b.node(s.node)
+            if s.kind == "moving_line":
+                a, cc = b.node(s.line[0]), b.node(s.line[1])
+                u0 = b.model(s.line[1]) - b.model(s.line[0])
+                along0 = float((b.model(s.node) - b.model(s.line[0])) @ u0 / np.linalg.norm(u0))
+                rho = along0 + value / b.scale
+                b.add(owner, _dot(x - a, cc - a) - rho * float(np.linalg.norm(u0)))
+            else:
+                d = np.array(s.direction, float)
+                d = d / np.linalg.norm(d)
+                b.add(owner, _dot([float(v) for v in d], x - sp.Matrix(b.model(s.node))) - value / b.scale)
+        else:
+            raise SymkinError(f"{c.label}: a {p.kind} value cannot be prescribed to solve the position problem")
+
+
+def _legs(b: _Builder, prescribed) -> list[tuple]:
+    """Prismatic legs to reduce (see the module docstring): (slider, bar, D, A, C, ρ, l, label)."""
+    mech = b.mech
+    fixed = set(mech.fixed)
+    slides = {c.parameter.target[0]: (c, v) for c, v in prescribed if c.parameter.kind == "slide"}
+    out = []
+    for s in mech.sliders:
+        if s.kind != "moving_line":
+            continue
+        hit = slides.get(s.id) or slides.get(s.node)
+        if hit is None or mech.slider(hit[0].parameter.target[0]).id != s.id:
+            continue
+        ns = mech.link_nodes(s.link)
+        if len(ns) != 2 or set(ns) != set(s.line):
+            continue
+        a, d = (ns[0], ns[1]) if ns[0] in fixed else (ns[1], ns[0])
+        if a not in fixed or d in fixed or s.node in (a, d):
+            continue
+        in_links = [name for name, nn in mech.links if d in nn]
+        others = [t for t in mech.sliders if t.id != s.id and (t.node == d or (t.line and d in t.line))]
+        values_on_d = [c for c, _ in prescribed if c.parameter.kind != "slide"
+                       and (d in c.parameter.target or any(t in in_links for t in c.parameter.target))]
+        if in_links != [s.link] or others or values_on_d:
+            continue
+        c_label, value = hit
+        u0 = b.model(s.line[1]) - b.model(s.line[0])
+        along0 = float((b.model(s.node) - b.model(s.line[0])) @ u0 / np.linalg.norm(u0))
+        rho = along0 + value / b.scale
+        if s.line[0] != a:  # the slide is measured from the line's first node
+            continue
+        if abs(rho) <= b.tol.geometry:
+            continue
+        out.append((s, s.link, d, a, s.node, rho, float(np.linalg.norm(u0)), c_label.label))
+    return out
+
+
+def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Tolerances = DEFAULT
+                    ) -> PolynomialSystem:
+    """The polynomial position problem of ``mech`` with the input coordinates ``values`` prescribed.
+
+    See the module docstring for the equations.  ``values`` maps input labels
+    (:func:`symkin.paths.coordinates.parse_input_label`) to values measured from the model's
+    configuration (angles in ``unit``, lengths in model units); exactly F of them.
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> s = position_system(get("fourbar_appendix"), {"rotation:crank": 30}, unit="deg")
+    >>> len(s.equations), len(s.unknowns), len(s.reduced), len(s.solve_for)
+    (4, 4, 1, 1)
+    """
+    tol = Tolerances.of(tol)
+    prescribed = prescribed_coordinates(mech, values, unit)
+    b = _Builder(mech, tol)
+    _bodies(b)
+    _sliders(b, set())
+    _values(b, prescribed, set())
+    original = list(b.equations)
+    filters = list(b.filters)
+
+    # the reduced system: prismatic legs, then linear substitution
+    legs = _legs(b, prescribed)
+    b.equations, b.filters = [], []
+    skip_links = {leg[1] for leg in legs}
+    skip_sliders = {leg[0].id for leg in legs}
+    skip_values = {leg[7] for leg in legs}
+    keep = [(nm, ns) for nm, ns in mech.links if nm not in skip_links]
+    b.mech = replace(mech, links=tuple(keep))
+    _bodies(b)
+    b.mech = mech
+    _sliders(b, skip_sliders)
+    _values(b, prescribed, skip_values, reduce=True)
+    reduced = [e for _, e in b.equations]
+    for leg in legs:
+        r = b.node(leg[4]) - b.node(leg[3])
+        reduced.append(sp.expand(_dot(r, r) - leg[5] ** 2))
+    removed = set()
+    for leg in legs:
+        k = list(mech.free_nodes).index(leg[2])
+        removed |= set(b.u[k * b.dim:(k + 1) * b.dim])
+    keep_u = [s for s in b.u if s not in removed]
+
+    pivots, solution, left, nonlinear = _reduce(reduced, keep_u, tol, mech.name)
+    nonlinear = [e for e in nonlinear if e.free_symbols]
+    if len(nonlinear) < len(left):
+        raise SymkinError(f"{mech.name}: with the values {', '.join(values)} the position problem keeps "
+                          f"{len(left) - len(nonlinear)} free parameter(s) (more unknowns than equations): "
+                          "its solutions are not isolated; prescribe other values")
+
+    lin_f = sp.lambdify([left], [solution[s] for s in pivots], "numpy") if pivots else None
+    full_index = {s: i for i, s in enumerate(b.u)}
+    leg_data = [(list(mech.free_nodes).index(leg[2]), leg[3], leg[4], leg[5], leg[6]) for leg in legs]
+
+    def recover(v):
+        v = np.asarray(v)
+        u = np.zeros(len(b.u), dtype=v.dtype)
+        for s, val in zip(left, v):
+            u[full_index[s]] = val
+        if lin_f is not None:
+            for s, val in zip(pivots, lin_f(list(v))):
+                u[full_index[s]] = val
+        for kd, a, c, rho, length in leg_data:
+            xa = np.asarray(b.model(a), dtype=v.dtype) if a not in b.index else \
+                u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
+            kc = b.index[c]
+            xc = u[kc * b.dim:(kc + 1) * b.dim]
+            u[kd * b.dim:(kd + 1) * b.dim] = xa + (length / rho) * (xc - xa)
+        return u
+
+    return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), tuple(filters),
+                            tuple(nonlinear), tuple(left), recover)
+
+
+def _reduce(equations, unknowns, tol: Tolerances, name: str):
+    """Substitute every linear equation, then every linear combination free of quadratic terms, until none is left.
+
+    The quadratic equations' degree-2 coefficients form a matrix ``Q`` (equations × monomials);
+    with its SVD ``Q = U S Vᵀ`` the combinations ``Uᵀ f`` whose singular value is below
+    ``tol.rank · σ_max`` are linear (e.g. the difference of two circles about one node);
+    they are substituted in turn.  ``Uᵀ`` is orthogonal, so the system is equivalent.
+    Returns the eliminated unknowns, their expressions, the unknowns left and the equations left.
+    """
+    pivots, solution = [], {}
+    left = list(unknowns)
+    eqs = list(equations)
+    while True:
+        eqs = [sp.expand(e.subs(solution)) if solution else e for e in eqs]
+        constants = [e for e in eqs if not e.free_symbols]
+        if any(abs(complex(e)) > tol.geometry for e in constants):
+            raise SymkinError(f"{name}: the prescribed values contradict the model's constraints "
+                              "(a constraint between fixed quantities fails): no configuration")
+        eqs = [e for e in eqs if e.free_symbols]
+        degree = [sp.Poly(e, *left).total_degree() for e in eqs]
+        linear = [e for e, d in zip(eqs, degree) if d <= 1]
+        quadratic = [e for e, d in zip(eqs, degree) if d == 2]
+        higher = [e for e, d in zip(eqs, degree) if d > 2]
+        if not linear and len(quadratic) > 1:
+            linear, quadratic = _linear_combinations(quadratic, left, tol)
+        if not linear:
+            return pivots, solution, left, quadratic + higher
+        piv, sol = _eliminate_linear(linear, left, tol)
+        if not piv:
+            return pivots, solution, left, quadratic + higher
+        solution = {s: sp.expand(v.subs(sol)) for s, v in solution.items()}
+        solution.update(sol)
+        pivots += piv
+        left = [s for s in left if s not in piv]
+        eqs = quadratic + higher
+
+
+def _linear_combinations(quadratic, unknowns, tol: Tolerances):
+    polys = [sp.Poly(e, *unknowns) for e in quadratic]
+    monomials = sorted({m for p in polys for m in p.monoms() if sum(m) == 2})
+    q = np.array([[float(p.coeff_monomial(m)) for m in monomials] for p in polys])
+    u, s, _ = np.linalg.svd(q)
+    rank = int(np.sum(s > tol.rank * s[0])) if s.size and s[0] > 0 else 0
+    if rank == len(polys):
+        return [], quadratic
+    size = max(abs(float(c)) for p in polys for c in p.coeffs())
+    combos, linear = [], []
+    for k in range(u.shape[1]):
+        e = sp.expand(sum(float(u[i, k]) * quadratic[i] for i in range(len(quadratic))))
+        if k < rank:
+            combos.append(e)
+            continue
+        # drop the rounding left in the quadratic terms; a combination with nothing left beyond
+        # rounding is a redundant equation (e.g. the third component of a cross product in space)
+        p = sp.Poly(e, *unknowns)
+        terms = [(m, c) for m, c in p.terms() if sum(m) <= 1 and abs(float(c)) > tol.rank * size]
+        if terms:
+            linear.append(sum((c * sp.prod([v ** d for v, d in zip(unknowns, m)]) for m, c in terms),
+                              sp.Integer(0)))
+    return linear, combos
+
+
+def _eliminate_linear(linear, unknowns, tol: Tolerances):
+    """Solve the linear equations for some unknowns (QR with column pivoting, relative rank test)."""
+    from scipy.linalg import qr
+
+    if not linear:
+        return [], {}
+    a = np.array([[float(e.coeff(s)) for s in unknowns] for e in linear])
+    rhs = -np.array([float(e.subs({s: 0 for s in unknowns})) for e in linear])
+    _, r, perm = qr(a, pivoting=True, mode="economic")
+    diag = np.abs(np.diag(r))
+    rank = int(np.sum(diag > tol.rank * max(diag[0], 1e-300))) if diag.size else 0
+    piv = [unknowns[i] for i in perm[:rank]]
+    rest = [unknowns[i] for i in perm[rank:]]
+    # least-squares residual of the linear equations tells whether they are consistent
+    sol, *_ = np.linalg.lstsq(a, rhs, rcond=None)
+    if np.max(np.abs(a @ sol - rhs)) > tol.geometry * max(1.0, np.max(np.abs(rhs))):
+        raise SymkinError("the prescribed values contradict the model's linear constraints (sliders, "
+                          "rigid bodies): no configuration")
+    ap = a[:, perm[:rank]]
+    ar = a[:, perm[rank:]]
+    # u_p = ap⁺ (rhs − ar u_r)
+    pinv = np.linalg.pinv(ap)
+    const = pinv @ rhs
+    coef = -pinv @ ar
+    solution = {}
+    for k, s in enumerate(piv):
+        solution[s] = float(const[k]) + sum((float(coef[k, j]) * t for j, t in enumerate(rest)), sp.Integer(0))
+    return piv, solution
