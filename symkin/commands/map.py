@@ -39,8 +39,8 @@ def add_arguments(p) -> None:
     p.add_argument("--seed", action="append", default=[], metavar="MODEL",
                    help="a model file of the same mechanism in another working mode (repeatable)")
     p.add_argument("--modes", choices=("model", "all"), default="model",
-                   help="model: the model's configuration and each --seed; all: every real solution "
-                        "(needs the global-solutions solver)")
+                   help="model: the model's configuration and each --seed; all: every real solution at the "
+                        "reference point (needs the extra symkin[global])")
     p.add_argument("--unit", choices=("deg", "rad"), default="deg",
                    help="unit of angle axes and hold values (default deg; lengths in model units)")
     p.add_argument("--tol", type=tolerance, default=None, help="relative rank tolerance (default 1e-8)")

@@ -3,8 +3,10 @@
 ``modes="model"``: the model's configuration is mode 0 (seed ``"model"``) and each seed
 (a model file of the same mechanism at another configuration, e.g. the other elbow) is
 one more mode; seeds with the same configuration as an earlier mode are merged.
-``modes="all"`` needs every real solution at the map's reference point, from the
-global-solutions solver (``symkin.solve_all``, issue 9); without it it is a clear error.
+``modes="all"``: every real solution of the position problem at the map's reference point
+(the model's axis values and the held values), from the global-solutions solver
+(:func:`symkin.solve_all`, the optional extra ``symkin[global]``; without it a clear error
+names the extra), each one mode, numbered in the solver's order.
 """
 from __future__ import annotations
 
@@ -71,15 +73,11 @@ def model_modes(system: MapSystem, seeds=(), modes: str = "model",
     """
     if modes not in MODES:
         raise SymkinError(f"--modes {modes!r}: use one of {', '.join(MODES)}")
-    if modes == "all":
-        import symkin
-
-        if not hasattr(symkin, "solve_all"):
-            raise SymkinError("--modes all needs the global-solutions solver (symkin.solve_all, issue 9), which is "
-                              "not available yet; use --modes model with one --seed MODEL per working mode")
-        raise SymkinError("--modes all: the global-solutions solver exists but the map does not use it yet; "
-                          "use --modes model with --seed")
     tol = Tolerances.of(tolerances)
+    if modes == "all":
+        if seeds:
+            raise SymkinError("--modes all takes its modes from the solver: give no --seed with it")
+        return _all_modes(system, tol)
     mech = system.mech
     ev = system.evaluators
     ell = mech.length_scale
@@ -116,3 +114,28 @@ def model_modes(system: MapSystem, seeds=(), modes: str = "model",
             continue
         out.append(Seed((label, q)))
     return out, merged
+
+
+
+def _all_modes(system: MapSystem, tol: Tolerances) -> tuple[list[Seed], list[str]]:
+    """Every real solution at the reference point as a mode (``modes="all"``)."""
+    import math
+
+    from symkin.solutions import solve_all
+
+    mech, ev = system.mech, system.evaluators
+    values = {c.label: 0.0 for c in system.axes}  # at the model's own axis values
+    if system.holds:
+        here = system.evaluate("holds", system.q0[None])[0][0]
+        for h, want, now in zip(system.holds, system.hold_values, here):
+            d = float(want - now)
+            values[h.label] = math.remainder(d, 2 * math.pi) if h.kind == "angle" else d
+    sols = solve_all(mech, values=values, unit="rad", tol=tol)
+    if not sols.solutions:
+        raise SymkinError(f"--modes all: {mech.name} has no real configuration at the map's reference point "
+                          f"({sols.complex} complex solution(s))")
+    seeds = [Seed((f"solution {k}", ev.free_coordinates(mech.with_coordinates(s.configuration))))
+             for k, s in enumerate(sols.solutions, 1)]
+    note = (f"--modes all: {len(seeds)} real solution(s) at the reference point "
+            f"({sols.complex} complex, {sols.paths} homotopy paths)")
+    return seeds, [note]

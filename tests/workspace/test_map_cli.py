@@ -60,13 +60,17 @@ def test_nothing_assembles_is_a_result(capsys, model):
     (("--x=velocity:P.x=1:0", Y), "LO must be less than HI"),
     ((X, Y, "--n", 1), "at least 2"),
     ((X, Y, "--hold", "rotation:crank1"), "over-determined"),
-    ((X, Y, "--modes", "all"), "global-solutions"),
     ((X, Y, "--workers", 2), "Dask support is not available yet"),
     ((X, "--y=velocity:P.x=0:1"), "named twice"),
 ])
 def test_bad_input_exits_2(capsys, model, args, message):
     code, out, err = run(capsys, model, *args, "--no-refine")
     assert code == 2 and message in err and "Traceback" not in err
+
+
+def test_modes_all_with_a_seed_exits_2(capsys, model):
+    code, _, err = run(capsys, model, X, Y, "--n", 3, "--no-refine", "--modes", "all", "--seed", model)
+    assert code == 2 and "no --seed" in err and "Traceback" not in err
 
 
 def test_seed_errors_exit_2(capsys, model, tmp_path):

@@ -114,8 +114,10 @@ def test_seed_errors(five_bar, tmp_path):
     with pytest.raises(SymkinError, match="not on the held values: rotation:platform"):
         symkin.workspace_map(rrr, x="velocity:C1.x=-1:1", y="velocity:C1.y=-1:1", n=5, refine=False,
                              hold=["rotation:platform=10"], seeds=[rrr])
-    with pytest.raises(SymkinError, match="global-solutions"):
-        symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, modes="all")
+    with pytest.raises(SymkinError, match="no --seed"):  # modes="all" takes its modes from the solver
+        symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, modes="all", seeds=[five_bar])
+    with pytest.raises(SymkinError, match="use one of model, all"):
+        symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, modes="every")
     with pytest.raises(SymkinError, match="Dask support is not available"):
         symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, workers=2)
 
