@@ -146,7 +146,7 @@ def plot_boundary(wmap: WorkspaceMap, mode=0, ax=None):
     return ax
 
 
-def plot_curves(wmap: WorkspaceMap, mode=0, ax=None, *, points: bool = True, halo: bool = True):
+def plot_curves(wmap: WorkspaceMap, mode=0, ax=None, *, points: bool = True, halo: bool = True, alpha: float = 1.0):
     """The traced singular curves of ``mode`` (``gid`` ``curve:KIND:MODE``, one line each) and its
     isolated singular points (``point:KIND:MODE``); colours as in the path plots, line style by kind.
 
@@ -157,7 +157,7 @@ def plot_curves(wmap: WorkspaceMap, mode=0, ax=None, *, points: bool = True, hal
     _check(wmap)
     m = _mode(wmap, mode)
     ax = _axes(ax)
-    effects = [pe.Stroke(linewidth=3.6, foreground="white"), pe.Normal()] if halo else None
+    effects = [pe.Stroke(linewidth=4.4, foreground="white"), pe.Normal()] if halo else None
     seen: set[str] = set()
     for c in wmap.curves:
         if c.mode != m.id:
@@ -165,8 +165,8 @@ def plot_curves(wmap: WorkspaceMap, mode=0, ax=None, *, points: bool = True, hal
         p = np.asarray(c.points, float).reshape(-1, 2)
         if c.closed and len(p) > 1:
             p = np.vstack([p, p[:1]])
-        ax.plot(p[:, 0], p[:, 1], color=STYLE[c.kind]["colour"], linestyle=LINESTYLES[c.kind], linewidth=1.8,
-                zorder=4, path_effects=effects, gid=f"curve:{c.kind}:{m.id}",
+        ax.plot(p[:, 0], p[:, 1], color=STYLE[c.kind]["colour"], linestyle=LINESTYLES[c.kind], linewidth=2.2,
+                alpha=alpha, zorder=4, path_effects=effects, gid=f"curve:{c.kind}:{m.id}",
                 label=f"{c.kind} curve" if c.kind not in seen else "_nolegend_")
         seen.add(c.kind)
     if points:
@@ -258,7 +258,7 @@ def plot_seed(wmap: WorkspaceMap, mode, mechanism: Mechanism, ax=None, *, title:
     node = _node_axes(wmap) if mech.dim == 2 else None
     if node is not None:
         plot_boundary(wmap, m, ax=ax)
-        plot_curves(wmap, m, ax=ax, points=True, halo=False)
+        plot_curves(wmap, m, ax=ax, points=True, halo=False, alpha=0.55)
     draw_mechanism(mech, ax=ax, title=title if title is not None else f"{mode_title(m)}\nthe mechanism at its seed")
     if node is not None and node in dict(mech.nodes):
         xy = dict(mech.nodes)[node][:2]
@@ -358,7 +358,7 @@ def map_figure(wmap: WorkspaceMap, mechanism: Mechanism | None = None, indicator
     fig = Figure(figsize=(4.3 * cols, 3.9 * rows + 0.9), layout="constrained")
     FigureCanvasAgg(fig)
     hold = ", ".join(f"{lab} = {v:.4g}" for lab, v in wmap.hold)
-    fig.suptitle(f"{wmap.model}: singularity map over {wmap.axes[0].label} × {wmap.axes[1].label}"
+    fig.suptitle(f"{wmap.model}\nsingularity map over {wmap.axes[0].label} × {wmap.axes[1].label}"
                  + (f" (holding {hold})" if hold else "") + f"; {len(wmap.modes)} mode(s), "
                  f"{len(wmap.curves)} curve(s), {len(wmap.points)} point(s)", fontsize=11)
     if not wmap.modes:
