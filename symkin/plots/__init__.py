@@ -12,9 +12,17 @@ and returns the Axes (networkx ``draw`` style):
   path, one small panel per event, same axes limits;
 * :func:`save_path_figures` — indicators, traces and the event panels in one PNG
   (``symkin path ... --plot FILE.png``);
+* :func:`plot_map` — one indicator of one working mode of a singularity map (log |IM|, signed
+  DKP test functions) with the traced curves and the mode's workspace boundary (Figs. 14, 16);
+* :func:`plot_im_surface` — the IM indicator of a mode as a 3-D surface (Fig. 15);
+* :func:`plot_seed` — the mechanism at a mode's seed configuration, in its workspace;
+* :func:`save_map_figure` — rows = modes, columns = indicators (+ mechanism) in one PNG
+  (``symkin map ... --plot FILE.png``);
 * :func:`~symkin.plots.extra.require_matplotlib` — the clear error when the plots extra is missing.
 """
 from symkin.plots.mechanism import draw_mechanism
+from symkin.plots.maps import plot_im_surface, plot_map, plot_seed, save_map_figure
 from symkin.plots.paths import plot_event_configurations, plot_indicators, plot_traces, save_path_figures
 
-__all__ = ["draw_mechanism", "plot_event_configurations", "plot_indicators", "plot_traces", "save_path_figures"]
+__all__ = ["draw_mechanism", "plot_event_configurations", "plot_indicators", "plot_traces", "save_path_figures",
+           "plot_map", "plot_im_surface", "plot_seed", "save_map_figure"]
