@@ -131,13 +131,14 @@ class TileResult:
 
 
 def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, seeds: list,
-             keep_configurations: bool = False) -> TileResult:
+             keep_configurations: bool = False, previous: TileResult | None = None) -> TileResult:
     """Continue a mode over one tile (``xs``, ``ys``: the tile's axis values, internal units) from its seeds.
 
     The first seed is continued over the whole tile with :func:`continue_mode`; a further
     seed only when the tile's grid point nearest it is not assembled yet, and it fills only
     points still unassembled.  ``(j0, i0)`` is the tile's first grid index (for the global
-    indices of the results).
+    indices of the results).  With ``previous`` (this tile's earlier result) the tile continues
+    from that state: seeds whose grid point it already assembled are skipped.
     """
     system = system_of(spec)
     tol = spec.tolerances
@@ -149,6 +150,13 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
     q_all = np.full(shape + (system.nf,), np.nan)
     branches: list = []
     kept: dict = {}
+    if previous is not None:
+        for name in out:
+            out[name] = getattr(previous, name).copy()
+        branches, kept = list(previous.branch_changes), dict(previous.configurations)
+        if previous.q is not None:
+            q_all = previous.q.copy()
+    fresh = np.zeros(shape, bool)  # assembled by this call
     scale = np.array([c.scale(system.mech.length_scale) for c in system.axes])
     for seed in seeds:
         a = system.axis_values(np.asarray(seed, float)[None])[0]
@@ -163,6 +171,7 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
         q_all[new] = g.q[new]
         out["rejected"] |= g.rejected & ~out["assembled"] & ~new
         out["assembled"] |= new
+        fresh |= new
         out["rejected"] &= ~out["assembled"]
         branches += [((a_[0] + j0, a_[1] + i0), (b_[0] + j0, b_[1] + i0)) for a_, b_ in g.branch_changes]
         for (j, i) in g.configurations:
@@ -170,7 +179,7 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
                 kept[(j + j0, i + i0)] = q_all[j, i].copy()
     ring = np.zeros(shape, bool)
     ring[[0, -1], :] = ring[:, [0, -1]] = True
-    for j, i in zip(*np.nonzero(ring & out["assembled"])):
+    for j, i in zip(*np.nonzero(ring & fresh)):
         kept[(int(j) + j0, int(i) + i0)] = q_all[j, i].copy()
     return TileResult(j0, j0 + ny, i0, i0 + nx, **out, branch_changes=tuple(branches), configurations=kept,
                       q=q_all if keep_configurations else None)
@@ -256,7 +265,7 @@ def tiled_mode(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray
     first = True
     while pending:
         calls = [(spec, xs[bx[ti]:bx[ti + 1]], ys[by[tj]:by[tj + 1]], by[tj], bx[ti], seeds[(tj, ti)],
-                  keep_configurations) for tj, ti in pending]
+                  keep_configurations, results.get((tj, ti))) for tj, ti in pending]
         for r in _map_tasks(client, run_tile, calls):
             results[of_start[(r.j0, r.i0)]] = r
             if progress and first:
