@@ -48,6 +48,7 @@ def test_tile_bounds_cover_the_grid():
         assert b[0] == 0 and b[-1] == n and all(hi - lo >= 2 for lo, hi in zip(b, b[1:]))
 
 
+@pytest.mark.slow
 def test_tiled_serial_map_is_the_five_bar_workspace(serial):
     m = serial.modes[0]
     truth = _workspace_truth(serial.xs, serial.ys)
@@ -62,6 +63,7 @@ def test_tiled_serial_map_is_the_five_bar_workspace(serial):
         assert _distance_to_circles(c.points).max() < 1e-9
 
 
+@pytest.mark.slow
 def test_tiles_agree_with_one_continuation():
     """Tiling changes the route of the continuation, not the configurations: same values to roundoff."""
     mech = get("five_bar")
@@ -143,3 +145,20 @@ def test_without_dask_is_a_clear_error(monkeypatch, capsys, tmp_path):
         code = main(["map", str(model), f"--x={X}", f"--y={Y}", "--n", "5", "--no-refine", *opt])
         out, err = capsys.readouterr()
         assert code == 2 and 'pip install -e ".[dask]"' in err and "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_cli_scheduler_equals_serial_tiles(client, capsys, tmp_path):
+    """``--scheduler ADDRESS`` runs on an existing cluster; its --json equals the serial tiled map's."""
+    import json
+
+    model = write_model(get("five_bar"), tmp_path / "fivebar.toml")
+    code = main(["map", str(model), f"--x={X}", f"--y={Y}", "--n", "21", "--json", "-",
+                 "--scheduler", client.scheduler.address])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    from symkin.workspace.parallel import TILE
+
+    serial = symkin.workspace_map(get("five_bar"), x=X, y=Y, n=21, tile=TILE)
+    assert json.loads(out) == json.loads(json.dumps(serial.to_dict()))
+    assert json.loads(out)["counts"]["0"]["DKP-output"] >= 4
