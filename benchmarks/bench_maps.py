@@ -224,7 +224,7 @@ def section_dask(n):
     mech = get("five_bar")
     workspace_map(mech, n=5, refine=False, **FIVE)
     t0 = time.perf_counter()
-    one = workspace_map(mech, n=n, refine=False, **FIVE)
+    workspace_map(mech, n=n, refine=False, **FIVE)
     t_one = time.perf_counter() - t0
     t0 = time.perf_counter()
     ser = workspace_map(mech, n=n, refine=False, tile=parallel.TILE, **FIVE)
