@@ -96,17 +96,18 @@ def _plot(m, target: str) -> str:
 
 def run(args) -> Output:
     from symkin.workspace.maps import workspace_map
+    from symkin.workspace.parallel import dask_client
 
     mech = read_model(args.model)
-    if args.workers is not None or args.scheduler is not None:
-        raise SymkinError("--workers / --scheduler: Dask support is not available yet; run without them")
     if args.n < 2:
         raise SymkinError(f"{args.model}: --n {args.n}: the number of grid points per axis must be at least 2")
     bar = _progress(not args.no_progress and args.json != "-", args.n * args.n * (1 + len(args.seed)))
     try:
-        m = workspace_map(mech, x=args.x, y=args.y, n=args.n, hold=tuple(args.hold), seeds=tuple(args.seed),
-                          modes=args.modes, refine=not args.no_refine, unit=args.unit, tol=args.tol,
-                          progress=bar.update if bar is not None else None)
+        # --workers N: a local Dask cluster for this run, closed afterwards; --scheduler: an existing one
+        with dask_client(workers=args.workers, scheduler=args.scheduler) as client:
+            m = workspace_map(mech, x=args.x, y=args.y, n=args.n, hold=tuple(args.hold), seeds=tuple(args.seed),
+                              modes=args.modes, refine=not args.no_refine, unit=args.unit, tol=args.tol,
+                              progress=bar.update if bar is not None else None, client=client)
     except SymkinError as exc:
         raise _in_file(exc, args.model)
     finally:

@@ -267,7 +267,8 @@ def _same_mode(a: ModeGrid, b: ModeGrid) -> bool:
 def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "velocity:P.y=0.2:4.4",
                   n=201, hold=(), seeds=(), modes: str = "model", refine: bool = True, client=None,
                   unit: str = "deg", tol: Tolerances | float | None = None, keep_configurations: bool = False,
-                  workers: int | None = None, progress=None) -> WorkspaceMap:
+                  workers: int | None = None, progress=None, tile: int | None = None,
+                  _tiled=None) -> WorkspaceMap:
     """A workspace or joint-space singularity map of ``mech`` (``symkin.workspace_map``; ``symkin map``).
 
     Parameters
@@ -285,7 +286,13 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     refine : bool
         Refine to exact curves (:mod:`symkin.workspace.loci`, when installed).
     client, workers :
-        Dask (not available yet: a clear error).
+        Dask (:mod:`symkin.workspace.parallel`, the ``dask`` extra): an existing
+        ``distributed.Client``, or ``workers=N`` to start a local cluster of N processes for
+        this call.  The grid is then continued tile by tile on the workers and each mode is
+        refined on one; the result equals the serial tiled run (``tile`` alone).
+    tile : int, optional
+        Tile side in grid points (:data:`symkin.workspace.parallel.TILE` with Dask); given
+        without Dask, the same tiles run in this process.
     unit : ``"deg"`` or ``"rad"``
     tol : Tolerances or float
         The core's rank tolerance.
@@ -294,10 +301,14 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     progress : callable, optional
         ``progress(k)`` told the number of grid points processed (e.g. a tqdm ``update``).
     """
-    if client is not None or workers:
-        raise SymkinError("Dask support is not available yet (--workers / --scheduler / client=); "
-                          "run in one process")
     tolerances = Tolerances.of(tol)
+    if client is not None or workers or tile:  # ---- tiled / Dask path (symkin.workspace.parallel)
+        from symkin.workspace import parallel
+
+        with parallel.dask_client(workers=workers, client=client) as dask:
+            return workspace_map(mech, x=x, y=y, n=n, hold=hold, seeds=seeds, modes=modes, refine=refine,
+                                 unit=unit, tol=tolerances, keep_configurations=keep_configurations,
+                                 progress=progress, _tiled=(parallel, dask, int(tile or parallel.TILE)))
     (lx, x_lo, x_hi), (ly, y_lo, y_hi), (nx, ny) = make_axes(x, y, n)
     system = map_system(mech, lx, ly, hold=hold, unit=unit, tolerances=tolerances)
     axes = (Axis(system.axes[0].label, x_lo, x_hi, nx), Axis(system.axes[1].label, y_lo, y_hi, ny))
@@ -308,9 +319,15 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     notes: list[str] = list(merged)
     mode_maps: list[ModeMap] = []
     grids: list[ModeGrid] = []
+    if _tiled is not None:  # ---- tiled / Dask path: every worker builds the problem from plain data
+        parallel, dask, tile_side = _tiled
+        spec = parallel.MapSpec.of(mech, lx, ly, hold, unit, tolerances)
     for label, q in seeds_q:
-        g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations,
-                          progress=progress)
+        if _tiled is not None:
+            g = parallel.tiled_mode(spec, xs, ys, q, tile_side, dask, keep_configurations, progress)
+        else:
+            g = continue_mode(system, xs, ys, q, tolerances, keep_configurations=keep_configurations,
+                              progress=progress)
         dup = next((k for k, h in enumerate(grids) if _same_mode(h, g)), None)
         if dup is not None:
             notes.append(f"seed {label} continues to the same configurations as mode {mode_maps[dup].id} "
@@ -326,11 +343,15 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
         if _loci() is None:
             notes.append("refinement to exact curves is not available yet (symkin.workspace.loci): grid only")
         else:
-            for m, g in zip(mode_maps, grids):
-                if g.assembled.any():
-                    c, p = _refine(system, g, m.id, xs_user, ys_user, tolerances)
-                    curves += c
-                    points += p
+            todo = [(m, g) for m, g in zip(mode_maps, grids) if g.assembled.any()]
+            if _tiled is not None:  # ---- one refinement task per mode (on a worker with Dask)
+                found = parallel.run_tasks(dask, parallel.on_system,
+                                           [(spec, _refine, g, m.id, xs_user, ys_user, tolerances) for m, g in todo])
+            else:
+                found = [_refine(system, g, m.id, xs_user, ys_user, tolerances) for m, g in todo]
+            for c, p in found:
+                curves += c
+                points += p
     if not any(g.assembled.any() for g in grids):
         notes.append("no mode assembles anywhere in the box")
     hold_user = tuple((c.label, float(v)) for c, v in zip(system.holds, system.to_user(system.hold_values,

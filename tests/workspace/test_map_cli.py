@@ -60,7 +60,7 @@ def test_nothing_assembles_is_a_result(capsys, model):
     (("--x=velocity:P.x=1:0", Y), "LO must be less than HI"),
     ((X, Y, "--n", 1), "at least 2"),
     ((X, Y, "--hold", "rotation:crank1"), "over-determined"),
-    ((X, Y, "--workers", 2), "Dask support is not available yet"),
+    ((X, Y, "--workers", 0), "number of workers must be at least 1"),
     ((X, "--y=velocity:P.x=0:1"), "named twice"),
 ])
 def test_bad_input_exits_2(capsys, model, args, message):

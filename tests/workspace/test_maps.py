@@ -118,8 +118,8 @@ def test_seed_errors(five_bar, tmp_path):
         symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, modes="all", seeds=[five_bar])
     with pytest.raises(SymkinError, match="use one of model, all"):
         symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, modes="every")
-    with pytest.raises(SymkinError, match="Dask support is not available"):
-        symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, workers=2)
+    with pytest.raises(SymkinError, match="number of workers must be at least 1"):
+        symkin.workspace_map(five_bar, x=X, y=Y, n=5, refine=False, workers=-1)
 
 
 def test_nothing_assembles(five_bar):
