@@ -84,14 +84,10 @@ def _text(m) -> str:
     return "\n".join(lines)
 
 
-def _plot(m, target: str) -> str:
-    if importlib.util.find_spec("matplotlib") is None:
-        raise SymkinError("--plot needs the plots extra (matplotlib): pip install 'symkin[plots]'")
-    if importlib.util.find_spec("symkin.plots.maps") is None:
-        raise SymkinError("--plot: map figures are not available yet (symkin.plots.maps); use --npz or --json")
+def _plot(m, target: str, mech) -> str:
     from symkin.plots.maps import save_map_figure
 
-    return f"figure written to {save_map_figure(m, target)}"
+    return f"figure written to {save_map_figure(m, target, mechanism=mech)}"
 
 
 def run(args) -> Output:
@@ -99,6 +95,10 @@ def run(args) -> Output:
     from symkin.workspace.parallel import dask_client
 
     mech = read_model(args.model)
+    if args.plot:
+        from symkin.plots.extra import require_matplotlib
+
+        require_matplotlib("--plot")  # before the map is computed
     if args.n < 2:
         raise SymkinError(f"{args.model}: --n {args.n}: the number of grid points per axis must be at least 2")
     bar = _progress(not args.no_progress and args.json != "-", args.n * args.n * (1 + len(args.seed)))
@@ -117,7 +117,7 @@ def run(args) -> Output:
     if args.npz:
         notes.append(f"arrays written to {m.save(args.npz)}")
     if args.plot:
-        notes.append(_plot(m, args.plot))
+        notes.append(_plot(m, args.plot, mech))
     if args.json is not None:
         text = json.dumps(m.to_dict(), indent=1)
         if args.json == "-":
