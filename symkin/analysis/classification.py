@@ -212,10 +212,11 @@ def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances, p_hat:
         return None, None
     rows = indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank, nonzero=ms.effective_rows)
     js = None if rows is None else ms.J[list(rows)]
+    volume = None if js is None else indicators.basis_volume(js)
     k_in = mech.n_inputs
     out = []
     for hat, sv in ((p_hat[:k_in], singular[0]), (p_hat[k_in:], singular[1])):
-        out.append(float(indicators.dkp_value(hat, sv, f, js)) if hat.shape[0] else None)
+        out.append(float(indicators.dkp_value(hat, sv, f, js, volume)) if hat.shape[0] else None)
     return out[0], out[1]
 
 

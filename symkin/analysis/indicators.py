@@ -26,13 +26,16 @@ parameter rows scaled to unit norm (paper §IV):
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from scipy.linalg.lapack import dgetrf as _dgetrf
 
 from symkin.numeric.linalg import independent_rows
 from symkin.tolerances import Tolerances
 
 __all__ = ["unit_rows", "padded_singular_values", "im_indicator", "rank_threshold", "instantaneous_dof",
-           "is_im", "restricted_singular_values", "is_dkp", "dkp_value", "basis_rows"]
+           "is_im", "restricted_singular_values", "is_dkp", "dkp_value", "basis_volume", "basis_rows"]
 
 
 def unit_rows(p: np.ndarray, free: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -121,7 +124,8 @@ def is_dkp(restricted: np.ndarray, k: int, mobility: int, tol: Tolerances):
     return np.count_nonzero(s > tol.rank, axis=-1) < min(mobility, k)
 
 
-def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.ndarray | None = None):
+def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.ndarray | None = None,
+              volume: float | None = None):
     """The DKP indicator of ``k`` unit parameter rows at a configuration with ``L = F``.
 
     For ``k = F`` and ``J_S`` given (``nf − F`` independent constraint rows, (..., nf − F, nf)):
@@ -130,6 +134,7 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
     product of the ``min(k, F)`` singular values ``restricted`` of ``P̂ V`` (non-negative).
     NaN when ``k = 0``.  Where ``J_S`` loses rank (IM) the value means nothing; the
     division is floored at the smallest normal float so that it stays finite there.
+    ``volume`` (one configuration) is :func:`basis_volume` of ``js`` when the caller has it.
 
     Examples
     --------
@@ -156,6 +161,8 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
         return np.full(lead, np.nan)
     if k == mobility and js is not None and js.shape[-2] + k == p_hat.shape[-1]:
         js = np.asarray(js, dtype=float)
+        if p_hat.ndim == 2 and js.ndim == 2:  # one configuration: LAPACK's LU directly (no gufunc overhead)
+            return _det(np.vstack([js, p_hat])) / (basis_volume(js) if volume is None else volume)
         gram = np.linalg.det(js @ np.swapaxes(js, -1, -2)) if js.shape[-2] else np.ones(lead)
         vol = np.sqrt(np.maximum(gram, np.finfo(float).tiny))  # J_S rank-deficient only at IM
         if js.ndim < p_hat.ndim:  # one J_S for a stack of parameter rows
@@ -163,6 +170,24 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
         return np.linalg.det(np.concatenate([js, p_hat], axis=-2)) / vol
     s = np.asarray(restricted, dtype=float)
     return np.prod(s[..., : min(k, mobility)], axis=-1)
+
+
+def _det(a: np.ndarray) -> float:
+    """Determinant of one square matrix from LAPACK's LU (``dgetrf``)."""
+    if a.shape[0] == 0:
+        return 1.0
+    lu, piv, info = _dgetrf(a)
+    if info < 0:  # bad input: let NumPy say what is wrong
+        return float(np.linalg.det(a))
+    swaps = sum(1 for i, p in enumerate(piv.tolist()) if p != i)
+    return math.prod(lu.diagonal().tolist()) * (-1.0 if swaps % 2 else 1.0)
+
+
+def basis_volume(js: np.ndarray) -> float:
+    """``sqrt(det(J_S J_Sᵀ))`` of one ``J_S``, floored at the smallest normal float (IM)."""
+    if js.shape[0] == 0:
+        return 1.0
+    return float(np.sqrt(max(_det(js @ js.T), np.finfo(float).tiny)))
 
 
 def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances, rank: int | None = None,
