@@ -233,9 +233,6 @@ def test_rpr_grid_signs_follow_the_conic():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=np.linalg.LinAlgError,
-                   reason="loci: refining the 3-RPR map stops with 'SVD did not converge in Linear Least "
-                          "Squares' in paths.continuation (a NaN in the curve corrector)")
 def test_rpr_traced_type2_points_on_the_conic():
     wmap = _rpr_map(refine=True)
     coef = T.rpr_conic(RPR_A, RPR_C, 0.0)
@@ -395,9 +392,6 @@ def test_gough_stewart_grid_signs_follow_the_plucker_determinant():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=np.linalg.LinAlgError,
-                   reason="loci: refining the Gough-Stewart slice stops with 'SVD did not converge in Linear "
-                          "Least Squares' in paths.continuation, as for the 3-RPR")
 def test_gough_stewart_traced_type2_points_are_singular_poses():
     gs_map = _gs_map(refine=True)
     pts = np.concatenate(_curves(gs_map, "DKP-input", 0) or [np.zeros((0, 2))])
