@@ -81,7 +81,7 @@ from scipy.optimize import brentq
 from symkin.analysis.batch import Evaluators
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.numeric.evaluators import INDICATOR_NAMES
-from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
+from symkin.paths.continuation import CurvePoint, Settings, continue_curve, newton, tangent
 from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -590,7 +590,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 break
             out.append(point.y)
             prev = point
-    except SteppingError:
+    except NotConvergedError:  # SteppingError, or a residual/Jacobian that is not finite
         end = "stalled"
     return _Half(out, end, end_y, meetings)
 
