@@ -99,7 +99,7 @@ def reciprocal(y, at_zero=ca.inf):
 
 
 # ---------------------------------------------------------------------- QR
-def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tuple]]:
+def givens_qr(cols: list[list[Any]], m: int, pairs: list | None = None) -> tuple[list[list[Any]], list[tuple]]:
     """QR by Givens rotations of the first ``m`` columns of an (n × c) SX array.
 
     Parameters
@@ -108,6 +108,9 @@ def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tupl
         ``cols[i][j]`` is entry (i, j) (a row-major nested list; not modified).
     m : int
         Columns to triangularise (``m <= n``); the other columns are transformed along.
+    pairs : list, optional
+        When given, ``(a_kk, a_ik)`` of every rotation is appended to it (the entries whose
+        radius is taken: where both vanish the QR is not differentiable, see :func:`root`).
 
     Returns
     -------
@@ -135,6 +138,8 @@ def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tupl
             if _zero(b):
                 continue
             top = a[k][k]
+            if pairs is not None:
+                pairs.append((top, b))
             r = root(top * top + b * b)  # finite derivative where both entries vanish
             zero = r == 0  # both entries zero: the identity rotation
             inv = reciprocal(r, 1)

@@ -315,13 +315,22 @@ def test_rrr_assembled_where_the_closed_form_reaches(rrr_map):
 
 # ----------------------------------------------------------------------------------- Fig. 14: the IM point
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="refinement reports no isolated IM point at the IM minimum of Fig. 14 "
-                                       "(the origin, where the IM indicator touches zero)")
 def test_fig14_map_reports_the_im_point_at_the_origin():
+    """The IM indicator touches zero at the origin, the centre of a cell of the even grid (four equal
+    minima at its corners, no configuration kept there): refinement re-solves one from the seed and
+    locates the collapsed rhombus, one isolated IM point, IM with a DKP in the output (the core's
+    classification of the file's derivation: L = 3 > F = 2, v_Py = 0)."""
     mech = symkin.read_model(EXAMPLES / "fig14_2rr.toml")
     wmap = workspace_map(mech, x="velocity:P.x=-6.5:6.5", y="velocity:P.y=-6.5:6.5", n=52, refine=True)
-    ims = [p.at for p in wmap.points if p.kind == "IM"]
-    assert any(np.hypot(*a) < 1e-8 for a in ims), ims
+    ims = [p for p in wmap.points if p.kind == "IM"]
+    assert len(ims) == 1, [(p.kind, p.at) for p in wmap.points]
+    assert np.hypot(*ims[0].at) < 1e-8, ims[0].at
+    assert tuple(ims[0].types) == ("IM", "DKP-output")
+    # independently: at P = 0 a collapsed rhombus (B1 = -B2 = l·n) has velocity rows (cranks A-B_i, distal
+    # links B_i-P over v_B1, v_B2, v_P) of rank 3, so L = 6 − 3 = 3 > F = 2
+    n = np.array([0.6, 0.8])
+    rows = np.array([[*n, 0, 0, 0, 0], [0, 0, *n, 0, 0], [*(-n), 0, 0, *n], [0, 0, *n, *(-n)]])
+    assert rows.shape[1] - np.linalg.matrix_rank(rows) == 3
 
 
 # ----------------------------------------------------------------------------------- Gough–Stewart slice
