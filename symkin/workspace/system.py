@@ -405,16 +405,27 @@ class MapSystem:
 
 
 def _solve_stacked(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a⁻¹ b`` for stacked square systems; NaN rows where ``a`` is singular."""
+    """``a⁻¹ b`` for stacked square systems; the minimum-norm least-squares step where ``a`` is singular.
+
+    An exactly singular square problem is an IM configuration on the grid (Fig. 14: with the
+    end-effector on the common pivot the collapsed rhombus turns freely about it): the
+    solutions there form a family, and the minimum-norm Gauss–Newton step converges onto
+    it, so a grid point on the closure within Newton's tolerance is assembled (it is the
+    limit configuration of the mode).  Where there is no solution the residual stays above
+    the tolerance and the point is not converged, as before.  NaN rows where ``a`` or
+    ``b`` is not finite.
+    """
     try:
         return np.linalg.solve(a, b[:, :, None])[:, :, 0]
     except np.linalg.LinAlgError:
         out = np.full(b.shape, np.nan)
         for k in range(a.shape[0]):
+            if not (np.all(np.isfinite(a[k])) and np.all(np.isfinite(b[k]))):
+                continue
             try:
                 out[k] = np.linalg.solve(a[k], b[k])
             except np.linalg.LinAlgError:
-                pass
+                out[k] = np.linalg.lstsq(a[k], b[k], rcond=None)[0]
         return out
 
 

@@ -412,3 +412,23 @@ def test_gough_stewart_traced_type2_points_are_singular_poses():
         rot = T.rot3(0, 0, _gs_turn(q)) @ GS_R0
         c_here = GS_C @ rot.T  # the platform frame turned to the pose: rotations about it from zero
         assert T.gough_jacobian_sigma(GS_A, c_here, pose) < 1e-7
+
+
+@pytest.mark.slow
+def test_fig14_origin_grid_point_is_assembled_and_im():
+    """With an odd grid the origin is a grid point: the square position problem is exactly singular there
+    (the collapsed rhombus turns freely about A), Newton's minimum-norm steps reach the closure, and the
+    point is assembled, the limit configuration of the mode: IM indicator 0 (closed form (3 − |c| −
+    √(1 − 2|c| + 5c²))/2 at ρ = 0, c = 1: 0), classified IM; refinement reports the IM point there."""
+    from symkin.workspace.grid import TYPE_BITS
+
+    mech = symkin.read_model(EXAMPLES / "fig14_2rr.toml")
+    wmap = workspace_map(mech, x="velocity:P.x=-6.5:6.5", y="velocity:P.y=-6.5:6.5", n=53, refine=True)
+    mode = wmap.modes[0]
+    j = i = 26
+    assert wmap.xs[i] == 0.0 and wmap.ys[j] == 0.0
+    assert np.asarray(mode.assembled).all()
+    assert abs(float(np.asarray(mode.im_indicator)[j, i])) < 1e-12
+    assert int(np.asarray(mode.types)[j, i]) & TYPE_BITS["IM"]
+    ims = [p for p in wmap.points if p.kind == "IM"]
+    assert len(ims) == 1 and np.hypot(*ims[0].at) < 1e-8, [(p.kind, p.at) for p in wmap.points]
