@@ -432,3 +432,60 @@ def test_fig14_origin_grid_point_is_assembled_and_im():
     assert int(np.asarray(mode.types)[j, i]) & TYPE_BITS["IM"]
     ims = [p for p in wmap.points if p.kind == "IM"]
     assert len(ims) == 1 and np.hypot(*ims[0].at) < 1e-8, [(p.kind, p.at) for p in wmap.points]
+
+
+# ----------------------------------------------------------------------------------- Gough–Stewart at constant orientation
+#: the slice the issue asks for: O.x, O.y free; the platform's orientation (the three components of its
+#: rotation vector from the model's orientation) and the height of O held at the model's values
+GS_HOLD_ORIENTATION = ("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]")
+
+
+@pytest.mark.slow
+def test_gough_stewart_constant_orientation_slice_traces_the_plucker_locus():
+    mech = symkin.read_model(MODELS / "gough_stewart.toml")
+    (x0, x1), (y0, y1) = GS_BOX
+    wmap = workspace_map(mech, x=_axis("velocity:O.x", x0, x1), y=_axis("velocity:O.y", y0, y1), n=(21, 21),
+                         hold=GS_HOLD_ORIENTATION, refine=True)
+    mode = wmap.modes[0]
+    ok = np.asarray(mode.assembled, bool)
+    assert ok.all()  # prismatic legs: no stretch limit in this box
+    X, Y = np.meshgrid(wmap.xs, wmap.ys)
+    det = T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], np.stack([X, Y], axis=-1))
+    din = np.asarray(mode.dkp_input)
+    sure = np.abs(det) > 1e-9
+    same = np.sign(din[sure]) == np.sign(det[sure])
+    assert same.all() or (~same).all()
+    assert (det > 0).any() and (det < 0).any()  # the slice crosses the type-2 locus
+    curves = _curves(wmap, "DKP-input", 0)
+    pts = np.concatenate(curves or [np.zeros((0, 2))])
+    assert len(pts) > 10
+    # every traced point: the six leg Plücker lines are dependent (independent determinant)
+    assert np.max(np.abs(T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], pts))) < ON_LOCUS
+    # every locus point on rows and columns of the box (away from its edges) is near a traced curve
+    step = max((x1 - x0) / 20, (y1 - y0) / 20)
+    checked, worst = 0, 0.0
+    for axis in (0, 1):
+        lo, hi = GS_BOX[axis]
+        olo, ohi = GS_BOX[1 - axis]
+        for other in np.linspace(olo + step, ohi - step, 15):
+            def at(s, o=other, a=axis):
+                return np.array([s, o]) if a == 0 else np.array([o, s])
+            ss = np.linspace(lo + step, hi - step, 121)
+            f = T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], np.array([at(v) for v in ss]))
+            for k in np.nonzero(f[:-1] * f[1:] < 0)[0]:
+                root = T.bisect_root(lambda v: float(T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], at(v))),
+                                     ss[k], ss[k + 1])
+                worst = max(worst, _nearest(at(root), curves))
+                checked += 1
+    assert checked > 5
+    assert worst < 0.05 * step, worst
+
+
+def test_orientation_hold_labels_are_checked():
+    mech = symkin.read_model(MODELS / "gough_stewart.toml")
+    with pytest.raises(symkin.SymkinError, match="x, y, z"):
+        workspace_map(mech, x="velocity:O.x=0:1", y="velocity:O.y=0:1", n=3,
+                      hold=("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[w]"))
+    with pytest.raises(symkin.SymkinError, match="not a moving link"):
+        workspace_map(mech, x="velocity:O.x=0:1", y="velocity:O.y=0:1", n=3,
+                      hold=("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:nothing[z]"))
