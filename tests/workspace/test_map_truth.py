@@ -489,3 +489,36 @@ def test_orientation_hold_labels_are_checked():
     with pytest.raises(symkin.SymkinError, match="not a moving link"):
         workspace_map(mech, x="velocity:O.x=0:1", y="velocity:O.y=0:1", n=3,
                       hold=("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:nothing[z]"))
+
+
+@pytest.mark.slow
+def test_orientation_hold_value_is_the_rotation_vector_from_the_model():
+    """``rotation:platform[z]=2`` (degrees): every solved configuration has the platform turned by exactly
+    Rz(2°) from the model's orientation (its frame from three platform joints, computed here)."""
+    from symkin.workspace.grid import continue_mode
+    from symkin.workspace.system import map_system
+
+    mech = symkin.read_model(MODELS / "gough_stewart.toml")
+    s = map_system(mech, "velocity:O.x", "velocity:O.y",
+                   hold=["velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]=2"])
+    xs = np.linspace(0.5, 1.0, 3)
+    g = continue_mode(s, xs, xs, s.q0, keep_configurations=True)
+    assert np.asarray(g.assembled).all()
+    xyz0 = np.array([c for _, c in mech.nodes], float)
+    idx = mech.node_index()
+    k = [idx[n] for n in ("C1", "C3", "C5")]
+
+    def frame(p):
+        e1 = (p[1] - p[0]) / np.linalg.norm(p[1] - p[0])
+        e3 = np.cross(e1, p[2] - p[0])
+        e3 /= np.linalg.norm(e3)
+        return np.column_stack([e1, np.cross(e3, e1), e3])
+
+    c, sn = np.cos(np.radians(2.0)), np.sin(np.radians(2.0))
+    rz = np.array([[c, -sn, 0.0], [sn, c, 0.0], [0.0, 0.0, 1.0]])
+    for j in range(3):
+        for i in range(3):
+            xyz = s.evaluators.coordinates(g.q[j, i])
+            rot = frame(xyz[k]) @ frame(xyz0[k]).T
+            np.testing.assert_allclose(rot, rz, atol=1e-12)
+            assert xyz[idx["O"], 2] == pytest.approx(xyz0[idx["O"], 2], abs=1e-12)
