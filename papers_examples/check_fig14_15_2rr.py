@@ -13,7 +13,8 @@ file, the IM indicator against its closed form, derived independently of symkin 
 function of the elbow angle β alone, with exactly one zero in the area, at the origin, where it
 vanishes like (3/4)(ρ/l)².  Asserted with the map (``symkin.workspace_map``, skipped with a
 warning until it exists): the mode assembles over the area, the IM indicator on the grid equals the
-closed form, and its minimum is at the cell containing the origin, ~0 there.
+closed form, its minimum is at the cell containing the origin, ~0 there, and refinement reports
+one isolated IM point, at the origin, classified IM with a DKP in the output.
 
 Closed form (independent): in the mode of the file, with P at distance ρ from A, put P = (2t, 0)
 l, B1,2 = (t, ±h) l, t = ρ/2l, h = √(1 − t²).  The four unit constraint rows over (v_B1, v_B2, v_P)
@@ -149,6 +150,15 @@ def _map_claims(c: Checklist, mech) -> None:
     c.true("map: ... and ~0 there: below 1e-2 of the largest value on the grid (the closed form "
            "vanishes at the origin like (3/4)(ρ/l)²)", float(finite.min()) < 1e-2 * float(np.max(im[ok])),
            float(finite.min()))
+    # refinement locates the IM point itself (the paper's claim): one isolated IM point, at the origin
+    refined = symkin.workspace_map(mech, x=f"velocity:P.x={axis}", y=f"velocity:P.y={axis}", n=N_GRID,
+                                   modes="model", refine=True).to_dict()
+    ims = [p for p in refined["points"] if p["kind"] == "IM"]
+    c.equal("map, refined: one isolated IM point", len(ims), 1)
+    if ims:
+        c.close("... at the origin (|P|)", math.hypot(*ims[0]["at"]), 0.0, tol=1e-8)
+        c.equal("... classified by the core as IM with a DKP in the output (L = 3 > F = 2)",
+                tuple(ims[0]["types"]), ("IM", "DKP-output"))
 
 
 def _grid(wmap, mode: int) -> dict[str, np.ndarray]:

@@ -47,7 +47,7 @@ import casadi as ca
 import numpy as np
 
 __all__ = ["givens_qr", "householder_tridiagonal", "charpoly", "sturm_count", "laguerre_steps",
-           "eigenvalue_above", "smallest_eigenvalue", "det", "reciprocal", "CERTIFICATE_WIDTH"]
+           "eigenvalue_above", "smallest_eigenvalue", "det", "reciprocal", "root", "CERTIFICATE_WIDTH"]
 
 #: relative accuracy a certificate proves: |λ - value| <= CERTIFICATE_WIDTH·|value|
 CERTIFICATE_WIDTH = 1e-12
@@ -64,17 +64,42 @@ def _zero(x) -> bool:
     return isinstance(x, ca.SX) and x.is_zero()
 
 
+def root(u):
+    """``sqrt(u)`` of a sum of squares ``u >= 0``, with derivative 0 (not 0/0) where ``u == 0``.
+
+    The value is the value of ``sqrt(u)``, bit for bit (``sqrt(0) = 0``).  Where ``u``
+    vanishes the derivative of ``sqrt`` is ``du / (2·0) = 0/0 = NaN`` (and a selection
+    around it does not help: its derivative is ``0 · NaN``); here the inner selection
+    takes the square root of 1 instead, so the derivative is ``0 · du = 0``.  The norm of
+    a vector at zero has no derivative; 0 is a subgradient, and it is the derivative along
+    every direction in which ``u`` stays 0 (a bar that stays parallel to an axis, e.g. on
+    a map slice at constant orientation), where the rest of the computation is smooth.
+    CasADi's simplification ``sqrt(u)² = u`` still applies, so later values are unchanged.
+
+    >>> import casadi as ca
+    >>> x = ca.SX.sym("x", 2)
+    >>> f = ca.Function("f", [x], [ca.jacobian(root(ca.sumsqr(x)), x)])
+    >>> f([0.0, 0.0]).full().tolist(), f([3.0, 4.0]).full().tolist()
+    ([[0.0, 0.0]], [[0.6, 0.8]])
+    """
+    nonzero = u != 0
+    return ca.if_else(nonzero, ca.sqrt(ca.if_else(nonzero, u, 1)), 0)
+
+
 def reciprocal(y, at_zero=ca.inf):
     """``1 / y`` as one reciprocal that CasADi keeps (``at_zero`` where ``y == 0``).
 
     CasADi rewrites ``a * (1 / y)`` as ``a / y``; a selection keeps the reciprocal, so
-    several quotients by ``y`` cost one division and multiplications.
+    several quotients by ``y`` cost one division and multiplications.  The division is
+    of 1 where ``y == 0``: the derivative of ``1 / y`` there (``-inf · 0 = NaN``, which a
+    selection does not remove: its derivative is ``0 · NaN``) stays finite.
     """
-    return ca.if_else(y == 0, at_zero, 1 / y)
+    zero = y == 0
+    return ca.if_else(zero, at_zero, 1 / ca.if_else(zero, 1, y))
 
 
 # ---------------------------------------------------------------------- QR
-def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tuple]]:
+def givens_qr(cols: list[list[Any]], m: int, pairs: list | None = None) -> tuple[list[list[Any]], list[tuple]]:
     """QR by Givens rotations of the first ``m`` columns of an (n × c) SX array.
 
     Parameters
@@ -83,6 +108,9 @@ def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tupl
         ``cols[i][j]`` is entry (i, j) (a row-major nested list; not modified).
     m : int
         Columns to triangularise (``m <= n``); the other columns are transformed along.
+    pairs : list, optional
+        When given, ``(a_kk, a_ik)`` of every rotation is appended to it (the entries whose
+        radius is taken: where both vanish the QR is not differentiable, see :func:`root`).
 
     Returns
     -------
@@ -110,7 +138,9 @@ def givens_qr(cols: list[list[Any]], m: int) -> tuple[list[list[Any]], list[tupl
             if _zero(b):
                 continue
             top = a[k][k]
-            r = ca.sqrt(top * top + b * b)
+            if pairs is not None:
+                pairs.append((top, b))
+            r = root(top * top + b * b)  # finite derivative where both entries vanish
             zero = r == 0  # both entries zero: the identity rotation
             inv = reciprocal(r, 1)
             c = (top + zero) * inv
@@ -155,7 +185,10 @@ def householder_tridiagonal(sym: ca.SX) -> tuple[list[Any], list[Any]]:
         alpha = -s * nx
         v = [x[0] - alpha] + x[1:]
         vv = _pairwise_sum([vi * vi for vi in v])
-        beta = 2 / ca.fmax(vv, 1e-300)
+        # a zero column (vv == 0, v = 0) needs no reflection: dividing by 1 there gives the same
+        # values (every update is a product with v = 0) and a finite derivative (2 / 1e-300 has
+        # the derivative -2e300 / 1e-300 = -inf, times 0: NaN)
+        beta = 2 / ca.fmax(ca.if_else(vv == 0, 1, vv), 1e-300)
         idx = list(range(k + 1, n))
         size = len(idx)
         p = [beta * _pairwise_sum([a[idx[r]][idx[t]] * v[t] for t in range(size)]) for r in range(size)]
@@ -241,7 +274,7 @@ def _finite_or(value, fallback):
 
 def _laguerre(n, x, g, spread, mult, direction):
     """One Laguerre step from ``x`` for a root of multiplicity ``mult`` (``spread = n·h - g²``)."""
-    disc = ca.sqrt(ca.fmax((n / mult - 1) * spread, 0))
+    disc = root(ca.fmax((n / mult - 1) * spread, 0))  # finite derivative where clamped
     return _finite_or(x - n / (g - direction * disc), x)  # not finite: stay
 
 
@@ -376,8 +409,8 @@ def smallest_eigenvalue(diag: Sequence, off: Sequence, iterations: int = ITERATI
         inv = reciprocal(p)
         g = dp * inv
         spread = n * (g * g - ddp * inv) - g * g
-        disc1 = ca.sqrt(ca.fmax((n - 1) * spread, 0))
-        disc2 = ca.sqrt(ca.fmax((n / 2 - 1) * spread, 0))
+        disc1 = root(ca.fmax((n - 1) * spread, 0))
+        disc2 = root(ca.fmax((n / 2 - 1) * spread, 0))
         below = count == 0
         # no eigenvalue below x: the plain step right (safe) and the double-root trial;
         # exactly one: the plain step left; more: back to the safe point

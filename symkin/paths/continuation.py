@@ -63,7 +63,29 @@ class CurvePoint:
     corrector_iterations: int = 0
 
 
+class NonFiniteError(NotConvergedError):
+    """The residual or the Jacobian is not finite (NaN or inf) where the solver evaluates it."""
+
+
+def _finite(y: np.ndarray, r: np.ndarray, j: np.ndarray) -> None:
+    """Raise :class:`NonFiniteError` (with ``y``) unless ``r`` and ``j`` are finite.
+
+    LAPACK's SVD would stop with ``LinAlgError: SVD did not converge`` on a NaN; a solver
+    that meets one has not converged, and says where.
+
+    >>> _finite(np.zeros(2), np.zeros(1), np.array([[1.0, np.nan]]))
+    Traceback (most recent call last):
+    ...
+    symkin.paths.continuation.NonFiniteError: the Jacobian is not finite (NaN or inf) at y = [0. 0.]
+    """
+    for name, v in (("residual", r), ("Jacobian", j)):
+        if not np.all(np.isfinite(v)):
+            raise NonFiniteError(f"the {name} is not finite (NaN or inf) at y = {np.asarray(y)}", y=np.asarray(y))
+
+
 def _lstsq(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        raise NonFiniteError("a least-squares system is not finite (NaN or inf)")
     return np.linalg.lstsq(a, b, rcond=None)[0]
 
 
@@ -89,6 +111,7 @@ def newton(problem: CurveProblem, y0: np.ndarray, extra=None, tol: float = 1e-12
         if extra is not None:
             re, je = extra(yy)
             r, j = np.concatenate([r, re]), np.vstack([j, je])
+        _finite(yy, r, j)
         return r, j
 
     k = 0
@@ -126,6 +149,7 @@ def tangent(problem: CurveProblem, y: np.ndarray, previous: np.ndarray | None = 
     Jacobian.  With it: the solution of ``[J; previousᵀ] t = [0; 1]``, normalised.
     """
     j = problem.jacobian(y)
+    _finite(y, np.zeros(0), j)
     if previous is None:
         t = np.linalg.svd(j, full_matrices=True)[2][-1]
     else:
@@ -204,7 +228,11 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
                 h *= 0.5
                 continue
             if t_new is None:
-                t_new = tangent(problem, y, point.t)
+                try:
+                    t_new = tangent(problem, y, point.t)
+                except NonFiniteError:  # a Jacobian that is not finite there: a shorter step
+                    h *= 0.5
+                    continue
             elif float(t_new @ point.t) < 0:
                 t_new = -t_new
             if math.acos(max(-1.0, min(1.0, float(t_new @ point.t)))) > settings.max_turn:

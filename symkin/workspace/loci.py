@@ -76,12 +76,14 @@ from typing import Any, Callable
 
 import casadi as ca
 import numpy as np
+from scipy.linalg import null_space
 from scipy.optimize import brentq
 
 from symkin.analysis.batch import Evaluators
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.numeric.evaluators import INDICATOR_NAMES
-from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
+from symkin.numeric.sx_linalg import givens_qr
+from symkin.paths.continuation import CurvePoint, Settings, continue_curve, newton, tangent
 from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -164,6 +166,9 @@ class GridData:
     trace: np.ndarray | None = None
     q: np.ndarray | None = None
     configuration: Callable[[int, int], np.ndarray | None] | None = None
+    #: the mode's seed configuration: where no configuration was kept (an IM-indicator minimum
+    #: of a grid without stored configurations), one is re-solved along assembled grid points from it
+    seed: np.ndarray | None = None
 
     def config(self, j: int, i: int) -> np.ndarray | None:
         """The configuration at ``[j, i]``: from ``q`` when stored there, else from ``configuration``; or None."""
@@ -257,7 +262,7 @@ class _Counted:
 class _Problems:
     """The CasADi Functions refinement evaluates, in ``y = q/ℓ`` and dimensionless axes ``A = a/axis_scale``."""
 
-    def __init__(self, system: LocusSystem):
+    def __init__(self, system: LocusSystem, tolerances: Tolerances = DEFAULT):
         self.system = system
         ev = system.evaluators
         if not ev.fast:
@@ -274,6 +279,14 @@ class _Problems:
         ax = ca.substitute(system.axes / ca.DM(np.array(system.axis_scale)), q, qy)
         tests = {k: ca.substitute(named[v], q, qy) for k, v in KINDS.items()}
         rel_im = ca.sqrt(ca.fmax(ca.substitute(named["im"] / named["trace"], q, qy), 0))
+        # the entry pairs of the kernel's Givens QR of J_Sᵀ (the same rows, the same rotations): where
+        # both entries of a pair vanish the QR is not differentiable (see :meth:`degenerate`)
+        js = ca.substitute(ev.symbolic_function("J")(q)[1], q, qy)[list(ev.basis_rows), :]
+        pairs: list = []
+        givens_qr([[js[j, i] for j in range(js.shape[0])] for i in range(js.shape[1])], js.shape[0], pairs)
+        pv = ca.vertcat(*[ca.vertcat(a, b) for a, b in pairs]) if pairs else ca.SX(0, 1)
+        self._pairs = ca.Function("givens_pairs", [y], [pv, ca.jacobian(pv, y)])
+        self._rank = float(Tolerances.of(tolerances).rank)
         self.n_constraints = int(g.numel())
         self._axes = ca.Function("axes", [y], [ax, ca.jacobian(ax, y)])
         self._tests = ca.Function("tests", [y], [tests["DKP-input"], tests["DKP-output"], rel_im])
@@ -299,8 +312,33 @@ class _Problems:
         a, b, c = (float(v) for v in self._tests(y))
         return {"DKP-input": a, "DKP-output": b, "im": c}
 
+    def degenerate(self, y) -> bool:
+        """Whether the kernel's derivative at ``y`` is one-sided: a Givens pair ``(a, b) = (0, 0)``
+        whose entries do not stay 0 on the solution surface ``(Φ_S/ℓ, holds) = 0`` through ``y``.
+
+        There the radius ``hypot(a, b)`` is not differentiable and the kernel's derivative
+        (finite, :func:`symkin.numeric.sx_linalg.root`) is right only along directions that
+        keep the pair at zero.  When the pair stays zero along the surface (a bar kept
+        parallel to an axis: a slice at constant orientation) it is the right derivative on
+        the surface; otherwise (a five-bar's locus crossing its symmetry line) the caller
+        takes the Jacobian a rounding step away.  "Stays zero": the pair's gradients along
+        an orthonormal basis of the surface's tangent space are at most ``Tolerances.rank``
+        (``y`` and the rows are dimensionless).
+        """
+        v, jac = self._pairs(y)
+        v = np.array(v).ravel()
+        if v.size == 0:
+            return False
+        both = np.flatnonzero((v[0::2] == 0.0) & (v[1::2] == 0.0))
+        if both.size == 0:
+            return False
+        jac = np.array(jac)
+        rows = np.concatenate([2 * both, 2 * both + 1])
+        tangent_space = null_space(np.array(self._constraints(y)[1]))
+        return bool(np.max(np.abs(jac[rows] @ tangent_space), initial=0.0) > self._rank)
+
     def curve(self, kind: str) -> "_Curve":
-        return _Curve(self._curve[kind], self.counter)
+        return _Curve(self._curve[kind], self.counter, degenerate=self.degenerate)
 
     def constraints(self) -> "_Fn":
         """The 2-D solution surface ``(Φ_S/ℓ, holds)(y) = 0`` (axes free)."""
@@ -321,30 +359,35 @@ class _Problems:
         return bool(sv[-1] <= tol.event_threshold * sv[0])
 
     def extended(self, kind: str, a0: np.ndarray, d: np.ndarray) -> "_Fn":
-        return _Fn(self._extended[kind], self.counter, (ca.DM(a0), ca.DM(d)))
+        return _Fn(self._extended[kind], self.counter, (ca.DM(a0), ca.DM(d)),
+                   degenerate=lambda z: self.degenerate(np.asarray(z, float)[:-1]))
 
 
 class _Fn:
     """A CurveProblem-like wrapper of a CasADi Function ``(z, *params) -> (r, J)`` that counts calls."""
 
-    def __init__(self, fn, counter, params=()):
-        self.fn, self.counter, self.params = fn, counter, params
+    def __init__(self, fn, counter, params=(), degenerate=None):
+        self.fn, self.counter, self.params, self.degenerate = fn, counter, params, degenerate
 
     def residual_and_jacobian(self, z):
         self.counter.n += 1
         r, j = self.fn(z, *self.params)
         r, j = np.array(r).ravel(), np.array(j)
-        if not np.all(np.isfinite(j)) and np.all(np.isfinite(r)):
+        if np.all(np.isfinite(r)) and (not np.all(np.isfinite(j)) or
+                                       (self.degenerate is not None and self.degenerate(np.asarray(z, float)))):
             j = self._nearby_jacobian(np.asarray(z, float))
         return r, j
 
     def _nearby_jacobian(self, z):
-        """The Jacobian a rounding step away, where the kernel's derivative is 0/0 (see below).
+        """The Jacobian a rounding step away, where the kernel is not differentiable (see below).
 
-        The indicator kernel's Givens rotations take ``sqrt(a² + b²)`` of two entries of the
+        The indicator kernel's Givens rotations take ``hypot(a, b)`` of two entries of the
         constraint rows; where both vanish exactly (a bar exactly parallel to an axis, e.g.
-        on a symmetry line) the value is right but its derivative is NaN.  The Jacobian at
-        ``z + δ``, ``|δ| ~ 1e-12`` relative, is then used (it differs by ~1e-12).
+        on a symmetry line) the value is right and its derivative finite
+        (:func:`symkin.numeric.sx_linalg.root`) but one-sided: right only along directions
+        that keep the entries zero (a slice at constant orientation), not across them (a
+        five-bar's locus through its symmetry line).  The Jacobian at ``z + δ``,
+        ``|δ| ~ 1e-12`` relative, is then used (it differs by ~1e-12).
         """
         bump = _JACOBIAN_BUMP * np.maximum(1.0, np.abs(z)) * np.cos(np.arange(z.size) + 0.5)
         for k in range(1, 4):
@@ -438,32 +481,105 @@ def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray
 
 
 def _im_candidates(grid: GridData) -> list[tuple[int, int]]:
-    """Grid nodes whose IM indicator is below all eight assembled neighbours (a minimum to refine)."""
+    """Grid nodes whose IM indicator is a minimum among its eight assembled neighbours (to refine).
+
+    Ties count: an IM point at the centre of a cell (Fig. 14: the origin of an even grid, by
+    symmetry) gives four equal minima at the cell's corners; one of them is taken (the first,
+    row-major: a tie with an earlier candidate among the neighbours is skipped; the located
+    point is the same).  A flat block (all nine equal) is no minimum.
+    """
     if grid.im_indicator is None:
         return []
     im = np.asarray(grid.im_indicator, float)
     asm = np.asarray(grid.assembled, bool) & np.isfinite(im)
     ny, nx = im.shape
     out = []
+    taken = set()
     for j in range(1, ny - 1):
         for i in range(1, nx - 1):
             block, ok = im[j - 1:j + 2, i - 1:i + 2], asm[j - 1:j + 2, i - 1:i + 2]
-            if ok.all() and np.count_nonzero(block <= im[j, i]) == 1:
-                out.append((j, i))
+            if not ok.all() or im[j, i] > block.min() or im[j, i] == block.max():
+                continue
+            if any((j + dj, i + di) in taken for dj in (-1, 0, 1) for di in (-1, 0, 1)):
+                continue  # a tie next to a candidate already taken
+            out.append((j, i))
+            taken.add((j, i))
     return out
 
 
-def locate_im(pb: _Problems, y0: np.ndarray) -> np.ndarray | None:
+def _grid_path(asm: np.ndarray, start: tuple[int, int], goal: tuple[int, int]) -> list[tuple[int, int]] | None:
+    """A shortest path of 8-neighbouring assembled grid nodes from ``start`` to ``goal`` (breadth first)."""
+    ny, nx = asm.shape
+    prev = {start: None}
+    front = [start]
+    while front and goal not in prev:
+        nxt = []
+        for j, i in front:
+            for dj in (-1, 0, 1):
+                for di in (-1, 0, 1):
+                    p = (j + dj, i + di)
+                    if 0 <= p[0] < ny and 0 <= p[1] < nx and asm[p] and p not in prev:
+                        prev[p] = (j, i)
+                        nxt.append(p)
+        front = nxt
+    if goal not in prev:
+        return None
+    path = [goal]
+    while prev[path[-1]] is not None:
+        path.append(prev[path[-1]])
+    return path[::-1]
+
+
+def resolve_from_seed(pb: _Problems, grid: GridData, scale: np.ndarray, target: tuple[int, int],
+                      substeps: int = 4) -> np.ndarray | None:
+    """The mode's configuration ``y`` at grid node ``target``, re-solved from the seed.
+
+    Newton on the square problem (:meth:`_Problems.solve_square`) in ``substeps`` steps per
+    cell: from the seed to the nearest assembled node, then node to node along a shortest
+    path of assembled nodes (the grid's own continuation, for one node).  None without a
+    seed or when a step does not converge.
+    """
+    if grid.seed is None:
+        return None
+    asm = np.asarray(grid.assembled, bool)
+    y = np.asarray(grid.seed, float) / pb.scale
+    a = pb.axes(y)
+    nodes = np.argwhere(asm)
+    pts = np.column_stack([np.asarray(grid.xs)[nodes[:, 1]], np.asarray(grid.ys)[nodes[:, 0]]]) / scale
+    start = tuple(int(v) for v in nodes[int(np.argmin(np.linalg.norm(pts - a, axis=1)))])
+    path = _grid_path(asm, start, target)
+    if path is None:
+        return None
+    try:
+        for node in path:
+            b = grid.at(*node) / scale
+            for t in np.linspace(0.0, 1.0, substeps + 1)[1:]:
+                y = pb.solve_square(a + t * (b - a), y)
+            a = b
+    except NotConvergedError:
+        return None
+    return y
+
+
+def locate_im(pb: _Problems, y0: np.ndarray, tol: Tolerances = DEFAULT) -> np.ndarray | None:
     """An IM configuration near ``y0``: where the surface ``(Φ_S/ℓ, holds) = 0`` loses rank.
 
     :func:`symkin.paths.events.refine_rank_drop` (Gauss–Newton on the constraints, a left
     null vector ``ψ`` of their Jacobian and its normalisation) from the grid configuration
-    of an IM-indicator minimum; None when it does not converge.  The caller asks the core
-    whether the configuration is IM.
+    of an IM-indicator minimum.  Where the IM configurations at that point form a family
+    (Fig. 14: with P on the common pivot the collapsed rhombus turns freely about it) the
+    Gauss–Newton steps need not vanish, only their component across the family; the point
+    it settles on is then accepted when it closes (residual at Newton's tolerance) and its
+    relative ``σ_{F+1}`` is at most :attr:`Tolerances.event_threshold` (as a path event).
+    None otherwise.  The caller asks the core whether the configuration is IM.
     """
     y, ok = refine_rank_drop(pb.constraints(), y0, 1)
-    if not ok or not np.all(np.isfinite(y)):
+    if not np.all(np.isfinite(y)):
         return None
+    if not ok:
+        closes = float(np.linalg.norm(pb.constraints().residual(y))) <= 10 * _NEWTON_TOL
+        if not (closes and pb.tests(y)["im"] <= tol.event_threshold):
+            return None
     return y
 
 
@@ -590,7 +706,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                 break
             out.append(point.y)
             prev = point
-    except SteppingError:
+    except NotConvergedError:  # SteppingError, or a residual/Jacobian that is not finite
         end = "stalled"
     return _Half(out, end, end_y, meetings)
 
@@ -743,8 +859,8 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     [('DKP-output', [0.0, 2.828427125])]
     """
     sys_ = LocusSystem.of(system)
-    pb = _Problems(sys_)
     tol = Tolerances.of(tolerances)
+    pb = _Problems(sys_, tol)
     scale = np.array(sys_.axis_scale, float)
     if box is None:
         box = ((float(np.min(grid.xs)), float(np.max(grid.xs))), (float(np.min(grid.ys)), float(np.max(grid.ys))))
@@ -828,11 +944,13 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             continue
         take(kind, y)
     for j, i in _im_candidates(grid):
-        qa = grid.config(j, i)
-        if qa is None:
-            continue
         before = pb.counter.n
-        y = locate_im(pb, qa / pb.scale)
+        qa = grid.config(j, i)
+        ya = qa / pb.scale if qa is not None else resolve_from_seed(pb, grid, scale, (j, i))
+        if ya is None:
+            stats.failed += 1
+            continue
+        y = locate_im(pb, ya, tol)
         if y is None:
             stats.failed += 1
             continue

@@ -247,7 +247,7 @@ def _refine(system, grid: ModeGrid, mode_id: int, xs, ys, tol: Tolerances):
     loci = _loci()
     data = loci.GridData(xs=xs, ys=ys, assembled=grid.assembled, dkp_input=grid.dkp_input,
                          dkp_output=grid.dkp_output, im_indicator=grid.im_indicator, q=grid.q,
-                         configuration=grid.config)
+                         configuration=grid.config, seed=grid.seed_q)
     out = loci.refine(system, data, mode_id, tol)
     curves, points = out[0], out[1]
     return ([MapCurve(c.kind, mode_id, bool(c.closed), np.asarray(c.points, float)) for c in curves],

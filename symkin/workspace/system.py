@@ -141,8 +141,88 @@ def _offset(mech: Mechanism, c: InputCoordinate, x0: np.ndarray) -> float:
     return 0.0
 
 
+_ORIENTATION_AXES = ("x", "y", "z")
+#: below this ``1 − cos θ`` the factor θ / sin θ of the rotation vector is its series (error ~1e-16)
+_SERIES_BELOW = 1e-5
+
+
+@dataclass(frozen=True)
+class OrientationComponent:
+    """``rotation:<link>[x|y|z]`` of a spatial rigid link: a component of its rotation vector.
+
+    The rotation vector ``θ·n`` of ``R = F(x) F(x₀)ᵀ``, the rotation that takes the link from
+    its orientation in the model to its orientation at ``x`` (components in the fixed frame,
+    an angle: ``--unit``), with ``F`` the orthonormal frame of three of its nodes (the first,
+    the farthest from it, and the farthest from their line).  Holding the three components
+    (default: the model's values, 0) holds the link's orientation: a spatial map slice at
+    constant orientation, e.g. ``--hold rotation:platform[x] --hold rotation:platform[y]
+    --hold rotation:platform[z] --hold velocity:O.z``.  ``θ·n = vee(R − Rᵀ)/2 · θ/sin θ``
+    (``cos θ = (tr R − 1)/2``) is smooth for ``θ < π``, including ``θ = 0``.
+    """
+
+    label: str
+    link: str
+    axis: int
+    nodes: tuple[int, int, int]
+    kind: str = "angle"
+
+    @staticmethod
+    def _frame(pts):
+        p0, p1, p2 = pts
+        e1 = p1 - p0
+        e1 = e1 / ca.norm_2(e1)
+        e3 = ca.cross(e1, p2 - p0)
+        e3 = e3 / ca.norm_2(e3)
+        return ca.horzcat(e1, ca.cross(e3, e1), e3)
+
+    def expression(self, mech: Mechanism, x, x0: np.ndarray):
+        d = mech.dim
+        f = self._frame([x[k * d:(k + 1) * d] for k in self.nodes])
+        f0 = self._frame([ca.DM(np.asarray(x0, float).reshape(-1, d)[k]) for k in self.nodes])
+        r = ca.mtimes(f, f0.T)
+        v = ca.vertcat(r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]) / 2  # sin θ · n
+        u = 1 - (r[0, 0] + r[1, 1] + r[2, 2] - 1) / 2  # 1 − cos θ
+        series = u < _SERIES_BELOW
+        c = 1 - ca.if_else(series, 2 * _SERIES_BELOW, u)  # the exact branch away from θ = 0 (finite derivative)
+        exact = ca.acos(c) / ca.sqrt(1 - c * c)
+        factor = ca.if_else(series, 1 + u / 3 + 2 * u * u / 15, exact)  # θ / sin θ
+        return v[self.axis] * factor
+
+
+def _orientation_component(mech: Mechanism, label: str) -> OrientationComponent | None:
+    """``rotation:<link>[x|y|z]`` of a spatial moving link with three non-collinear nodes, else None."""
+    kind, _, rest = label.partition(":")
+    if kind != "rotation" or mech.dim != 3 or not rest.endswith("]") or "[" not in rest:
+        return None
+    link, _, comp = rest[:-1].partition("[")
+    if link not in mech.moving_links:
+        raise SymkinError(f"{label!r}: {link!r} is not a moving link of {mech.name}")
+    if comp not in _ORIENTATION_AXES:
+        raise SymkinError(f"{label!r}: the component must be one of x, y, z (rotation:{link}[x])")
+    idx = mech.node_index()
+    xyz = np.array([c for _, c in mech.nodes], float)
+    ks = [idx[n] for n in mech.link_nodes(link)]
+    k0 = ks[0]
+    k1 = max(ks, key=lambda k: float(np.linalg.norm(xyz[k] - xyz[k0])))
+    e = xyz[k1] - xyz[k0]
+    off = [float(np.linalg.norm(np.cross(e, xyz[k] - xyz[k0]))) for k in ks]
+    k2 = ks[int(np.argmax(off))]
+    if max(off) <= DEFAULT.geometry * float(np.dot(e, e)):
+        raise SymkinError(f"{label!r}: the nodes of link {link!r} are collinear; its orientation about "
+                          "their line is not defined")
+    return OrientationComponent(label, link, _ORIENTATION_AXES.index(comp), (k0, k1, k2))
+
+
 def map_coordinate(mech: Mechanism, label: str) -> MapCoordinate:
-    """The absolute map coordinate named ``label``; a :class:`SymkinError` listing what is accepted."""
+    """The absolute map coordinate named ``label``; a :class:`SymkinError` listing what is accepted.
+
+    Besides the labels of :func:`symkin.paths.coordinates.parse_input_label`, a spatial
+    link's orientation component ``rotation:<link>[x|y|z]`` (:class:`OrientationComponent`,
+    relative to the model's orientation).
+    """
+    o = _orientation_component(mech, label)
+    if o is not None:
+        return MapCoordinate(o.label, o.kind, o, 0.0)
     c = parse_input_label(mech, label)
     x0 = np.array([v for _, v in mech.nodes], dtype=float)
     return MapCoordinate(c.label, c.kind, c, _offset(mech, c, x0))
@@ -405,16 +485,27 @@ class MapSystem:
 
 
 def _solve_stacked(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a⁻¹ b`` for stacked square systems; NaN rows where ``a`` is singular."""
+    """``a⁻¹ b`` for stacked square systems; the minimum-norm least-squares step where ``a`` is singular.
+
+    An exactly singular square problem is an IM configuration on the grid (Fig. 14: with the
+    end-effector on the common pivot the collapsed rhombus turns freely about it): the
+    solutions there form a family, and the minimum-norm Gauss–Newton step converges onto
+    it, so a grid point on the closure within Newton's tolerance is assembled (it is the
+    limit configuration of the mode).  Where there is no solution the residual stays above
+    the tolerance and the point is not converged, as before.  NaN rows where ``a`` or
+    ``b`` is not finite.
+    """
     try:
         return np.linalg.solve(a, b[:, :, None])[:, :, 0]
     except np.linalg.LinAlgError:
         out = np.full(b.shape, np.nan)
         for k in range(a.shape[0]):
+            if not (np.all(np.isfinite(a[k])) and np.all(np.isfinite(b[k]))):
+                continue
             try:
                 out[k] = np.linalg.solve(a[k], b[k])
             except np.linalg.LinAlgError:
-                pass
+                out[k] = np.linalg.lstsq(a[k], b[k], rcond=None)[0]
         return out
 
 

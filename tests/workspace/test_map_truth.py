@@ -233,10 +233,6 @@ def test_rpr_grid_signs_follow_the_conic():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True,
-                   reason="loci: refining the 3-RPR map stops with 'SVD did not converge in Linear Least "
-                          "Squares' in paths.continuation (a NaN in the curve corrector), or traces no type-2 "
-                          "curve (with the current indicator kernel)")
 def test_rpr_traced_type2_points_on_the_conic():
     wmap = _rpr_map(refine=True)
     coef = T.rpr_conic(RPR_A, RPR_C, 0.0)
@@ -319,13 +315,22 @@ def test_rrr_assembled_where_the_closed_form_reaches(rrr_map):
 
 # ----------------------------------------------------------------------------------- Fig. 14: the IM point
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="refinement reports no isolated IM point at the IM minimum of Fig. 14 "
-                                       "(the origin, where the IM indicator touches zero)")
 def test_fig14_map_reports_the_im_point_at_the_origin():
+    """The IM indicator touches zero at the origin, the centre of a cell of the even grid (four equal
+    minima at its corners, no configuration kept there): refinement re-solves one from the seed and
+    locates the collapsed rhombus, one isolated IM point, IM with a DKP in the output (the core's
+    classification of the file's derivation: L = 3 > F = 2, v_Py = 0)."""
     mech = symkin.read_model(EXAMPLES / "fig14_2rr.toml")
     wmap = workspace_map(mech, x="velocity:P.x=-6.5:6.5", y="velocity:P.y=-6.5:6.5", n=52, refine=True)
-    ims = [p.at for p in wmap.points if p.kind == "IM"]
-    assert any(np.hypot(*a) < 1e-8 for a in ims), ims
+    ims = [p for p in wmap.points if p.kind == "IM"]
+    assert len(ims) == 1, [(p.kind, p.at) for p in wmap.points]
+    assert np.hypot(*ims[0].at) < 1e-8, ims[0].at
+    assert tuple(ims[0].types) == ("IM", "DKP-output")
+    # independently: at P = 0 a collapsed rhombus (B1 = -B2 = l·n) has velocity rows (cranks A-B_i, distal
+    # links B_i-P over v_B1, v_B2, v_P) of rank 3, so L = 6 − 3 = 3 > F = 2
+    n = np.array([0.6, 0.8])
+    rows = np.array([[*n, 0, 0, 0, 0], [0, 0, *n, 0, 0], [*(-n), 0, 0, *n], [0, 0, *n, *(-n)]])
+    assert rows.shape[1] - np.linalg.matrix_rank(rows) == 3
 
 
 # ----------------------------------------------------------------------------------- Gough–Stewart slice
@@ -396,9 +401,6 @@ def test_gough_stewart_grid_signs_follow_the_plucker_determinant():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=np.linalg.LinAlgError,
-                   reason="loci: refining the Gough-Stewart slice stops with 'SVD did not converge in Linear "
-                          "Least Squares' in paths.continuation, as for the 3-RPR")
 def test_gough_stewart_traced_type2_points_are_singular_poses():
     gs_map = _gs_map(refine=True)
     pts = np.concatenate(_curves(gs_map, "DKP-input", 0) or [np.zeros((0, 2))])
@@ -410,3 +412,113 @@ def test_gough_stewart_traced_type2_points_are_singular_poses():
         rot = T.rot3(0, 0, _gs_turn(q)) @ GS_R0
         c_here = GS_C @ rot.T  # the platform frame turned to the pose: rotations about it from zero
         assert T.gough_jacobian_sigma(GS_A, c_here, pose) < 1e-7
+
+
+@pytest.mark.slow
+def test_fig14_origin_grid_point_is_assembled_and_im():
+    """With an odd grid the origin is a grid point: the square position problem is exactly singular there
+    (the collapsed rhombus turns freely about A), Newton's minimum-norm steps reach the closure, and the
+    point is assembled, the limit configuration of the mode: IM indicator 0 (closed form (3 − |c| −
+    √(1 − 2|c| + 5c²))/2 at ρ = 0, c = 1: 0), classified IM; refinement reports the IM point there."""
+    from symkin.workspace.grid import TYPE_BITS
+
+    mech = symkin.read_model(EXAMPLES / "fig14_2rr.toml")
+    wmap = workspace_map(mech, x="velocity:P.x=-6.5:6.5", y="velocity:P.y=-6.5:6.5", n=53, refine=True)
+    mode = wmap.modes[0]
+    j = i = 26
+    assert wmap.xs[i] == 0.0 and wmap.ys[j] == 0.0
+    assert np.asarray(mode.assembled).all()
+    assert abs(float(np.asarray(mode.im_indicator)[j, i])) < 1e-12
+    assert int(np.asarray(mode.types)[j, i]) & TYPE_BITS["IM"]
+    ims = [p for p in wmap.points if p.kind == "IM"]
+    assert len(ims) == 1 and np.hypot(*ims[0].at) < 1e-8, [(p.kind, p.at) for p in wmap.points]
+
+
+# ----------------------------------------------------------------------------------- Gough–Stewart at constant orientation
+#: the slice the issue asks for: O.x, O.y free; the platform's orientation (the three components of its
+#: rotation vector from the model's orientation) and the height of O held at the model's values
+GS_HOLD_ORIENTATION = ("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]")
+
+
+@pytest.mark.slow
+def test_gough_stewart_constant_orientation_slice_traces_the_plucker_locus():
+    mech = symkin.read_model(MODELS / "gough_stewart.toml")
+    (x0, x1), (y0, y1) = GS_BOX
+    wmap = workspace_map(mech, x=_axis("velocity:O.x", x0, x1), y=_axis("velocity:O.y", y0, y1), n=(21, 21),
+                         hold=GS_HOLD_ORIENTATION, refine=True)
+    mode = wmap.modes[0]
+    ok = np.asarray(mode.assembled, bool)
+    assert ok.all()  # prismatic legs: no stretch limit in this box
+    X, Y = np.meshgrid(wmap.xs, wmap.ys)
+    det = T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], np.stack([X, Y], axis=-1))
+    din = np.asarray(mode.dkp_input)
+    sure = np.abs(det) > 1e-9
+    same = np.sign(din[sure]) == np.sign(det[sure])
+    assert same.all() or (~same).all()
+    assert (det > 0).any() and (det < 0).any()  # the slice crosses the type-2 locus
+    curves = _curves(wmap, "DKP-input", 0)
+    pts = np.concatenate(curves or [np.zeros((0, 2))])
+    assert len(pts) > 10
+    # every traced point: the six leg Plücker lines are dependent (independent determinant)
+    assert np.max(np.abs(T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], pts))) < ON_LOCUS
+    # every locus point on rows and columns of the box (away from its edges) is near a traced curve
+    step = max((x1 - x0) / 20, (y1 - y0) / 20)
+    checked, worst = 0, 0.0
+    for axis in (0, 1):
+        lo, hi = GS_BOX[axis]
+        olo, ohi = GS_BOX[1 - axis]
+        for other in np.linspace(olo + step, ohi - step, 15):
+            def at(s, o=other, a=axis):
+                return np.array([s, o]) if a == 0 else np.array([o, s])
+            ss = np.linspace(lo + step, hi - step, 121)
+            f = T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], np.array([at(v) for v in ss]))
+            for k in np.nonzero(f[:-1] * f[1:] < 0)[0]:
+                root = T.bisect_root(lambda v: float(T.gough_type2_det(GS_A, GS_C, GS_R0, GS_O[2], at(v))),
+                                     ss[k], ss[k + 1])
+                worst = max(worst, _nearest(at(root), curves))
+                checked += 1
+    assert checked > 5
+    assert worst < 0.05 * step, worst
+
+
+def test_orientation_hold_labels_are_checked():
+    mech = symkin.read_model(MODELS / "gough_stewart.toml")
+    with pytest.raises(symkin.SymkinError, match="x, y, z"):
+        workspace_map(mech, x="velocity:O.x=0:1", y="velocity:O.y=0:1", n=3,
+                      hold=("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[w]"))
+    with pytest.raises(symkin.SymkinError, match="not a moving link"):
+        workspace_map(mech, x="velocity:O.x=0:1", y="velocity:O.y=0:1", n=3,
+                      hold=("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:nothing[z]"))
+
+
+@pytest.mark.slow
+def test_orientation_hold_value_is_the_rotation_vector_from_the_model():
+    """``rotation:platform[z]=2`` (degrees): every solved configuration has the platform turned by exactly
+    Rz(2°) from the model's orientation (its frame from three platform joints, computed here)."""
+    from symkin.workspace.grid import continue_mode
+    from symkin.workspace.system import map_system
+
+    mech = symkin.read_model(MODELS / "gough_stewart.toml")
+    s = map_system(mech, "velocity:O.x", "velocity:O.y",
+                   hold=["velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]=2"])
+    xs = np.linspace(0.5, 1.0, 3)
+    g = continue_mode(s, xs, xs, s.q0, keep_configurations=True)
+    assert np.asarray(g.assembled).all()
+    xyz0 = np.array([c for _, c in mech.nodes], float)
+    idx = mech.node_index()
+    k = [idx[n] for n in ("C1", "C3", "C5")]
+
+    def frame(p):
+        e1 = (p[1] - p[0]) / np.linalg.norm(p[1] - p[0])
+        e3 = np.cross(e1, p[2] - p[0])
+        e3 /= np.linalg.norm(e3)
+        return np.column_stack([e1, np.cross(e3, e1), e3])
+
+    c, sn = np.cos(np.radians(2.0)), np.sin(np.radians(2.0))
+    rz = np.array([[c, -sn, 0.0], [sn, c, 0.0], [0.0, 0.0, 1.0]])
+    for j in range(3):
+        for i in range(3):
+            xyz = s.evaluators.coordinates(g.q[j, i])
+            rot = frame(xyz[k]) @ frame(xyz0[k]).T
+            np.testing.assert_allclose(rot, rz, atol=1e-12)
+            assert xyz[idx["O"], 2] == pytest.approx(xyz0[idx["O"], 2], abs=1e-12)
