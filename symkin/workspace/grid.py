@@ -34,13 +34,12 @@ Arrays of a mode are ``(ny, nx)``, indexed ``[j, i]`` ↔ ``(xs[i], ys[j])``.
 from __future__ import annotations
 
 import math
-from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from symkin.errors import SymkinError
-from symkin.tolerances import DEFAULT, Tolerances
+from symkin.tolerances import Tolerances
 from symkin.workspace.system import NEWTON_TOL, MapSystem
 
 __all__ = ["Axis", "parse_axis", "make_axes", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
@@ -345,7 +344,6 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
                     branches.append((cand[kk[sel[m]]], check[sel[m]][1]))
         # indicators, and the sign-pattern check against the source neighbour
         if good.size:
-            idx = [cand[k] for k in good]
             res = ev.batch(q_new[good], tol)
             sg = _signs(res, np.arange(good.size))
             src_sg = np.array([signs[src[k]] for k in good])

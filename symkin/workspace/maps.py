@@ -38,7 +38,7 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.tolerances import Tolerances
-from symkin.workspace.grid import TYPE_BITS, Axis, ModeGrid, continue_mode, make_axes, type_names
+from symkin.workspace.grid import TYPE_BITS, Axis, ModeGrid, continue_mode, make_axes
 from symkin.workspace.modes import model_modes
 from symkin.workspace.system import map_system
 
