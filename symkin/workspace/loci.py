@@ -903,46 +903,39 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     stats.crossings, stats.folds = len(signs), len(folds)
     boundary = _boundary(grid, signs)
     seeds: list = []  # meeting points found along boundary curves: interior curves start there
+    def locate_and_take(kinds, pa, pb_, locate, errors) -> None:
+        """Locate one crossing or fold between grid points ``pa``, ``pb_`` and trace from it."""
+        if near_traced(kinds, 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
+            stats.duplicates += 1
+            return
+        before = pb.counter.n
+        try:
+            kind, y = locate()
+        except errors:
+            stats.failed += 1
+            return
+        stats.locate_evaluations += pb.counter.n - before
+        stats.located += 1
+        if on_traced(kind, y, 0.5 * settings.max_step):
+            stats.duplicates += 1
+            return
+        take(kind, y)
+
     for kind, pa, pb_ in signs:
         qa, qb = grid.config(*pa), grid.config(*pb_)
         if qa is None or qb is None:
             continue
         ya, yb = qa / pb.scale, qb / pb.scale
-        if near_traced((kind,), 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
-            stats.duplicates += 1
-            continue
-        before = pb.counter.n
-        try:
-            y, _ = locate_crossing(pb, kind, dim_axes(*pa), ya, dim_axes(*pb_), yb)
-        except (NotConvergedError, ValueError):
-            stats.failed += 1
-            continue
-        stats.locate_evaluations += pb.counter.n - before
-        stats.located += 1
-        if on_traced(kind, y, 0.5 * settings.max_step):
-            stats.duplicates += 1
-            continue
-        take(kind, y)
+        locate_and_take((kind,), pa, pb_,
+                        lambda: (kind, locate_crossing(pb, kind, dim_axes(*pa), ya, dim_axes(*pb_), yb)[0]),
+                        (NotConvergedError, ValueError))
     for pa, pb_ in folds:
         qa = grid.config(*pa)
         if qa is None:
             continue
         ya = qa / pb.scale
-        if near_traced(KINDS, 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
-            stats.duplicates += 1
-            continue
-        before = pb.counter.n
-        try:
-            kind, y, s = locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)
-        except NotConvergedError:
-            stats.failed += 1
-            continue
-        stats.locate_evaluations += pb.counter.n - before
-        stats.located += 1
-        if on_traced(kind, y, 0.5 * settings.max_step):
-            stats.duplicates += 1
-            continue
-        take(kind, y)
+        locate_and_take(KINDS, pa, pb_, lambda: locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)[:2],
+                        NotConvergedError)
     for j, i in _im_candidates(grid):
         before = pb.counter.n
         qa = grid.config(j, i)
