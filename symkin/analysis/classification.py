@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -33,8 +35,8 @@ from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.analysis.relations import Relation, canonical_relations
 from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
-from symkin.model.mechanism import Mechanism, Parameter
-from symkin.numeric.linalg import rref, svd_factors, svd_rank
+from symkin.model.mechanism import Mechanism, Parameter, ParameterList
+from symkin.numeric.linalg import rref, singular_values, svd_factors, svd_rank
 from symkin.tolerances import Tolerances
 
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
@@ -97,6 +99,18 @@ class Analysis:
     self_stresses: tuple[Relation, ...] = ()
     warnings: tuple[str, ...] = ()
 
+    @classmethod
+    def _of(cls, **fields) -> "Analysis":
+        """``Analysis(**fields)`` with every field given, without the frozen ``__init__``.
+
+        A frozen dataclass sets each of its ~30 fields through ``object.__setattr__``,
+        which is a tenth of an analysis; :func:`analyze` fills the instance's dictionary
+        at once instead.  The result is the same object (equality, ``replace``, frozen).
+        """
+        obj = object.__new__(cls)
+        obj.__dict__.update(fields)
+        return obj
+
     @property
     def structure(self) -> bool:
         """``True`` for a structure (full-cycle mobility F = 0): rigid, or flexible when L > 0."""
@@ -141,8 +155,7 @@ class Analysis:
 
 
 # ---------------------------------------------------------------------- helpers
-@dataclass(frozen=True)
-class _Ranked:
+class _Ranked(NamedTuple):
     """One SVD of a restricted parameter matrix ``M`` (k × L): rank, right and left null spaces."""
 
     rank: int
@@ -152,12 +165,19 @@ class _Ranked:
 
 
 def _ranked(m: np.ndarray, tol: float) -> _Ranked:
-    """Rank of ``m`` with the absolute threshold ``tol``, and both null spaces."""
+    """Rank of ``m`` with the absolute threshold ``tol``, and both null spaces.
+
+    The singular values come first; the singular vectors only when a null space is not
+    empty (the generic square case needs none).
+    """
     k, n = m.shape
     if k == 0:
         return _Ranked(0, np.eye(n), np.zeros((0, 0)), np.zeros(0))
-    u, s, vt = svd_factors(m)
+    s = singular_values(m)
     rank = svd_rank(s, tol)
+    if rank == k == n:
+        return _Ranked(rank, np.zeros((n, 0)), np.zeros((k, 0)), s)
+    u, _, vt = svd_factors(m)  # the rank stays the one decided on ``s``
     return _Ranked(rank, vt[rank:].T, u[:, rank:], s)
 
 
@@ -195,11 +215,11 @@ def _motion(mech: Mechanism, vec: np.ndarray, moves_out, moves_pf) -> Motion:
 
 # ---------------------------------------------------------------------- main
 def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances, p_hat: np.ndarray,
-                singular: tuple[np.ndarray, np.ndarray]) -> tuple[float | None, float | None]:
+                singular: tuple[np.ndarray, np.ndarray], restricted: np.ndarray) -> tuple[float | None, float | None]:
     """Signed DKP values of the inputs and outputs (:func:`symkin.analysis.indicators.dkp_value`).
 
-    ``p_hat`` are the unit input rows then output rows over the free coordinates, and
-    ``singular`` the singular values of their restrictions ``P̂ V``.  Defined where
+    ``p_hat`` are the unit input rows then output rows over the free coordinates,
+    ``restricted`` their restrictions ``P̂ V`` and ``singular`` the singular values of those.  Defined where
     ``L = F``; None elsewhere and when there are no such parameters.  ``J_S`` is chosen by
     the evaluators' rule (:func:`symkin.analysis.indicators.basis_rows`) at this
     configuration: where no constraint row is redundant (every catalogue mechanism) that
@@ -211,13 +231,14 @@ def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances, p_hat:
     if ms.dof != f:
         return None, None
     rows = indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank, nonzero=ms.effective_rows)
-    js = None if rows is None else ms.J[list(rows)]
-    volume = None if js is None else indicators.basis_volume(js)
     k_in = mech.n_inputs
-    out = []
-    for hat, sv in ((p_hat[:k_in], singular[0]), (p_hat[k_in:], singular[1])):
-        out.append(float(indicators.dkp_value(hat, sv, f, js, volume)) if hat.shape[0] else None)
-    return out[0], out[1]
+    sides = ((p_hat[:k_in], singular[0], restricted[:k_in]), (p_hat[k_in:], singular[1], restricted[k_in:]))
+    if rows is None:
+        return tuple(float(indicators.dkp_value(hat, sv, f)) if hat.shape[0] else None for hat, sv, _ in sides)
+    js = ms.J if len(rows) == ms.J.shape[0] else ms.J[list(rows)]
+    orientation = indicators.basis_orientation(js, ms.V_free) if f in (k_in, p_hat.shape[0] - k_in) else None
+    return tuple(float(indicators.dkp_value(hat, sv, f, js, restricted_matrix=m, orientation=orientation))
+                 if hat.shape[0] else None for hat, sv, m in sides)
 
 
 def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
@@ -259,7 +280,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         types.append("IM")
 
     # inputs and outputs restricted in one go (rows are independent), then split
-    io = tuple(mech.inputs) + tuple(mech.outputs)
+    io = mech.io_parameters
     m_io, n_io, lab_io = ms.restrict(io)
     k_in = mech.n_inputs
     m_in, n_in, lab_in = m_io[:k_in], n_io[:k_in], lab_io[:k_in]
@@ -280,8 +301,8 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     pf_rel: tuple[Relation, ...] = ()
     m_pf = None
     if mech.platform is not None:
-        twist = (Parameter("twist", (mech.platform,)),)
-        if twist == tuple(mech.outputs):  # the usual case: the outputs are the platform's twist
+        twist, is_outputs = _platform_twist(mech.topology, mech.platform, mech.outputs)
+        if is_outputs:  # the usual case: the outputs are the platform's twist
             m_pf, n_pf, lab_pf, rk_pf = m_out, n_out, lab_out, rk_out
         else:
             m_pf, n_pf, lab_pf = ms.restrict(twist)
@@ -323,7 +344,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     type1 = "DKP-output" in types or ri
     ga = "type 3" if (type1 and type2) else "type 2" if type2 else "type 1" if type1 else None
 
-    dkp_in, dkp_out = _dkp_values(mech, ms, tolerances, ms.unit_rows(io), (rk_in.s, rk_out.s))
+    dkp_in, dkp_out = _dkp_values(mech, ms, tolerances, ms.unit_rows(io), (rk_in.s, rk_out.s), m_io)
     s = ms.singular_values
     shown = tuple(s[: min(s.size, L + 3)].tolist())
     margin = None
@@ -337,7 +358,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     if (w := mobility_warning(mech, L)) is not None:
         warnings += (w,)
 
-    return Analysis(
+    return Analysis._of(
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),
         input_labels=lab_in, output_labels=lab_out,
         input_rank=r_in if k_in else None, output_rank=r_out if k_out else None,
@@ -353,12 +374,27 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         warnings=warnings)
 
 
+@lru_cache(maxsize=256)
+def _platform_twist(topology, platform: str, outputs: tuple) -> tuple[ParameterList, bool]:
+    """The platform's twist as a parameter list, and whether it is the outputs (once per topology)."""
+    twist = ParameterList((Parameter("twist", (platform,)),))
+    return twist, twist == tuple(outputs)
+
+
+@lru_cache(maxsize=256)
+def _free_nodes(topology, node_names: tuple, fixed: tuple) -> np.ndarray:
+    """Boolean mask of the free nodes, in node order (once per topology)."""
+    fixed_set = set(fixed)
+    return np.array([n not in fixed_set for n in node_names], dtype=bool)
+
+
 def _locked(mech: Mechanism, ms: MotionSpace, t: float) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Free nodes that cannot move for any motion, and the moving links all of whose free nodes are such."""
+    speeds = ms.node_speed_array()
+    if not (speeds[_free_nodes(mech.topology, mech.node_names, mech.fixed)] <= t).any():
+        return (), ()  # the common case: every free node can move
     fixed = set(mech.fixed)
-    still = {n for n, s in zip(mech.node_names, ms.node_speed_array().tolist()) if s <= t and n not in fixed}
-    if not still:
-        return (), ()
+    still = {n for n, s in zip(mech.node_names, speeds.tolist()) if s <= t and n not in fixed}
     locked_nodes = tuple(n for n in mech.node_names if n in still)
     locked_links = tuple(name for name in mech.moving_links
                          if all(n in still for n in mech.link_nodes(name) if n not in fixed))

@@ -35,7 +35,8 @@ from symkin.numeric.linalg import independent_rows
 from symkin.tolerances import Tolerances
 
 __all__ = ["unit_rows", "padded_singular_values", "im_indicator", "rank_threshold", "instantaneous_dof",
-           "is_im", "restricted_singular_values", "is_dkp", "dkp_value", "basis_volume", "basis_rows"]
+           "is_im", "restricted_singular_values", "is_dkp", "dkp_value", "basis_orientation", "basis_volume",
+           "basis_rows"]
 
 
 def unit_rows(p: np.ndarray, free: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -121,11 +122,12 @@ def is_dkp(restricted: np.ndarray, k: int, mobility: int, tol: Tolerances):
     s = np.asarray(restricted, dtype=float)
     if k == 0:
         return np.zeros(s.shape[:-1], bool)
-    return np.count_nonzero(s > tol.rank, axis=-1) < min(mobility, k)
+    return (s > tol.rank).sum(axis=-1) < min(mobility, k)
 
 
 def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.ndarray | None = None,
-              volume: float | None = None):
+              volume: float | None = None, restricted_matrix: np.ndarray | None = None,
+              orientation: float | None = None):
     """The DKP indicator of ``k`` unit parameter rows at a configuration with ``L = F``.
 
     For ``k = F`` and ``J_S`` given (``nf − F`` independent constraint rows, (..., nf − F, nf)):
@@ -135,6 +137,13 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
     NaN when ``k = 0``.  Where ``J_S`` loses rank (IM) the value means nothing; the
     division is floored at the smallest normal float so that it stays finite there.
     ``volume`` (one configuration) is :func:`basis_volume` of ``js`` when the caller has it.
+
+    One configuration with ``restricted_matrix = P̂ V`` and ``orientation`` =
+    :func:`basis_orientation` of ``(J_S, V)``: the same value as ``orientation · det(P̂ V)``.
+    For an orthonormal ``V`` with ``J_S V = 0``, ``[J_S; P̂] [W V] = [[J_S W, 0], [P̂ W, P̂ V]]``
+    (``[W V]`` orthogonal), so ``det[J_S; P̂] = det[J_S; Vᵀ] · det(P̂ V)`` and
+    ``|det[J_S; Vᵀ]| = sqrt(det(J_S J_Sᵀ))``: one factorisation of ``[J_S; Vᵀ]`` serves the
+    inputs and the outputs (a test keeps both forms equal).
 
     Examples
     --------
@@ -159,12 +168,14 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
     lead = p_hat.shape[:-2]
     if k == 0:
         return np.full(lead, np.nan)
+    if k == mobility and orientation is not None and restricted_matrix is not None:
+        return orientation * _det(restricted_matrix)
     if k == mobility and js is not None and js.shape[-2] + k == p_hat.shape[-1]:
         js = np.asarray(js, dtype=float)
         if p_hat.ndim == 2 and js.ndim == 2:  # one configuration: LAPACK's LU directly (no gufunc overhead)
-            return _det(np.vstack([js, p_hat])) / (basis_volume(js) if volume is None else volume)
+            return _det(np.concatenate((js, p_hat))) / (basis_volume(js) if volume is None else volume)
         gram = np.linalg.det(js @ np.swapaxes(js, -1, -2)) if js.shape[-2] else np.ones(lead)
-        vol = np.sqrt(np.maximum(gram, np.finfo(float).tiny))  # J_S rank-deficient only at IM
+        vol = np.sqrt(np.maximum(gram, TINY))  # J_S rank-deficient only at IM
         if js.ndim < p_hat.ndim:  # one J_S for a stack of parameter rows
             js = np.broadcast_to(js, lead + js.shape[-2:])
         return np.linalg.det(np.concatenate([js, p_hat], axis=-2)) / vol
@@ -179,15 +190,31 @@ def _det(a: np.ndarray) -> float:
     lu, piv, info = _dgetrf(a)
     if info < 0:  # bad input: let NumPy say what is wrong
         return float(np.linalg.det(a))
-    swaps = sum(1 for i, p in enumerate(piv.tolist()) if p != i)
+    swaps = int(np.count_nonzero(piv != _ORDER[: piv.size])) if piv.size <= _ORDER.size else \
+        int(np.count_nonzero(piv != np.arange(piv.size)))
     return math.prod(lu.diagonal().tolist()) * (-1.0 if swaps % 2 else 1.0)
+
+
+#: LAPACK's pivot indices when no row is exchanged
+_ORDER = np.arange(64, dtype=np.int32)
+#: the smallest normal float: the floor of a J_S volume (J_S loses rank only at IM)
+TINY = float(np.finfo(float).tiny)
+
+
+def basis_orientation(js: np.ndarray, v: np.ndarray) -> float:
+    """``sign det[J_S; Vᵀ]`` (±1) of one ``J_S`` (nf − F, nf) and an orthonormal basis ``V`` (nf, F) of its null space.
+
+    The orientation of ``V`` relative to the rows ``J_S``: with it the signed DKP value is
+    ``orientation · det(P̂ V)`` (see :func:`dkp_value`).
+    """
+    return -1.0 if _det(np.concatenate((js, v.T))) < 0 else 1.0
 
 
 def basis_volume(js: np.ndarray) -> float:
     """``sqrt(det(J_S J_Sᵀ))`` of one ``J_S``, floored at the smallest normal float (IM)."""
     if js.shape[0] == 0:
         return 1.0
-    return float(np.sqrt(max(_det(js @ js.T), np.finfo(float).tiny)))
+    return float(np.sqrt(max(_det(js @ js.T), TINY)))
 
 
 def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances, rank: int | None = None,

@@ -53,6 +53,8 @@ class MotionSpace:
     U : ndarray (m, m)
         Left singular vectors of ``J_r``, by descending singular value: ``U[:, rank:]`` is an
         orthonormal basis of the left null space ``{y : yᵀ J_r = 0}`` (self-stresses).
+    V_free : ndarray (n_free, L)
+        The rows of ``V`` of the free coordinates (``V`` without its zero rows).
     """
 
     mechanism: Mechanism
@@ -64,7 +66,15 @@ class MotionSpace:
     rank: int = 0
     J: np.ndarray | None = field(default=None, repr=False)
     U: np.ndarray | None = field(default=None, repr=False)
+    V_free: np.ndarray | None = field(default=None, repr=False)
     _restricted: dict = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def _of(cls, **fields) -> "MotionSpace":
+        """``MotionSpace(**fields)`` with every field given, without the frozen ``__init__`` (faster)."""
+        obj = object.__new__(cls)
+        obj.__dict__.update(fields)
+        return obj
 
     @cached_property
     def xyz(self) -> np.ndarray:
@@ -116,7 +126,7 @@ class MotionSpace:
         coefficients by dividing by ``norms``.  Computed once per parameter list; the
         arrays returned are read-only.
         """
-        key = tuple(params)
+        key = params if isinstance(params, tuple) else tuple(params)
         got = self._restricted.get(key)
         if got is None:
             got = self._restricted[key] = self._restrict(key)
@@ -124,16 +134,16 @@ class MotionSpace:
 
     def unit_rows(self, params) -> np.ndarray:
         """``P̂`` over the free coordinates: the unit parameter rows that :meth:`restrict` projects."""
-        self.restrict(params)
-        return self._restricted[("unit", tuple(params))]
+        key = params if isinstance(params, tuple) else tuple(params)
+        self.restrict(key)
+        return self._restricted[("unit", key)]
 
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
         p, labels = parameters_matrix(mech, params, self.xyz)
-        free = plan(mech.topology).free_index
-        p_hat, norms = indicators.unit_rows(p, free)
-        m = p_hat @ self.V
-        hat_free = p_hat.take(free, axis=1)
+        hat_free, norms = indicators.unit_rows(p.take(plan(mech.topology).free_index, axis=1))
+        v_free = self.V_free if self.V_free is not None else self.V[plan(mech.topology).free_index]
+        m = hat_free @ v_free
         for a in (m, norms, hat_free):
             a.setflags(write=False)
         self._restricted[("unit", params)] = hat_free
@@ -167,8 +177,10 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     u, s, vt = svd_factors(jf)
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)
-    v = pl.embed @ vt[rank:].T  # zero rows for the fixed coordinates
+    v_free = vt[rank:].T
+    v = pl.embed @ v_free  # zero rows for the fixed coordinates
     n_zero = jf.shape[1] - s.size  # structural zeros of a wide J_r
     singular = np.concatenate([np.zeros(n_zero), s[::-1]]) if n_zero else s[::-1]
-    return MotionSpace(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
-                       threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u)
+    return MotionSpace._of(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
+                           threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u, V_free=v_free,
+                           _restricted={})

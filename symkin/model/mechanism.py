@@ -18,7 +18,7 @@ from typing import Iterable, Mapping
 
 from symkin.errors import ModelError, Problem
 
-__all__ = ["Slider", "Parameter", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
+__all__ = ["Slider", "Parameter", "ParameterList", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
 
 AXES = ("x", "y", "z")
 #: component names of a twist (velocity of the link's first node, then angular velocity)
@@ -114,6 +114,17 @@ class Parameter:
         if self.label is not None:
             out["label"] = self.label
         return out
+
+
+class ParameterList(tuple):
+    """A tuple of :class:`Parameter` whose hash is computed once (it keys per-configuration caches)."""
+
+    def __hash__(self) -> int:
+        try:
+            return self.__dict__["_hash"]
+        except KeyError:
+            h = self.__dict__["_hash"] = tuple.__hash__(self)
+            return h
 
 
 class Topology:
@@ -398,6 +409,11 @@ class Mechanism:
         if len(on_node) == 1:
             return on_node[0]
         raise KeyError(ref)
+
+    @cached_property
+    def io_parameters(self) -> ParameterList:
+        """The inputs then the outputs, as one :class:`ParameterList`."""
+        return ParameterList(tuple(self.inputs) + tuple(self.outputs))
 
     @cached_property
     def n_inputs(self) -> int:

@@ -574,7 +574,7 @@ def parameters_matrix(mech: Mechanism, params, xyz: np.ndarray | None = None) ->
     Planar lists without slides run their cached :class:`_PlanarProgram`; others stack
     :func:`parameter_rows`.
     """
-    params = tuple(params)
+    params = params if isinstance(params, tuple) else tuple(params)
     x = _xyz(mech) if xyz is None else xyz
     prog = _planar_program(mech.topology, params) if mech.dim == 2 else None
     if prog is not None:

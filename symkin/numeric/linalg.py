@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import lapack
 
-__all__ = ["svd_factors", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
+__all__ = ["svd_factors", "singular_values", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
            "normal_basis", "affine_hull", "independent_rows"]
 
 
@@ -27,6 +27,16 @@ def svd_factors(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if info != 0:  # not converged (or bad input): NumPy's own driver raises a clear error
         return np.linalg.svd(a, full_matrices=True)
     return u, s, vt
+
+
+def singular_values(a: np.ndarray) -> np.ndarray:
+    """Singular values of ``a``, descending (LAPACK's ``dgesdd`` without vectors, as :func:`svd_factors`)."""
+    if a.shape[0] == 0 or a.shape[1] == 0:
+        return np.zeros(0)
+    _, s, _, info = lapack.dgesdd(a, compute_uv=0)
+    if info != 0:
+        return np.linalg.svd(a, compute_uv=False)
+    return s
 
 
 def svd_rank(s: np.ndarray, threshold: float) -> int:

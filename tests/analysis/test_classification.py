@@ -199,3 +199,18 @@ def test_tolerance_override_changes_a_near_miss():
     assert strict.types == () and strict.dof == 1
     assert loose.types == ("IM",) and loose.dof == 2
     assert strict.singular_values[1] < 1e-5 and strict.margin < 1e4
+
+
+@pytest.mark.parametrize("name", ["fourbar_flat", "rrr_3", "bennett"])
+def test_analysis_built_by_analyze_equals_the_dataclass_constructor(name):
+    """``analyze`` fills the frozen dataclass without its ``__init__``: every field, the same object."""
+    import dataclasses
+
+    from symkin.analysis.classification import Analysis
+
+    a = analyze(catalogue.get(name))
+    names = {f.name for f in dataclasses.fields(Analysis)}
+    assert set(a.__dict__) == names
+    assert a == Analysis(**{n: getattr(a, n) for n in names})
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        a.dof = 7

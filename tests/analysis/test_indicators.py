@@ -66,6 +66,45 @@ def test_dkp_value_is_the_signed_determinant_of_the_restricted_rows():
         assert indicators.dkp_value(p_hat, sv, 2) == pytest.approx(abs(value), rel=1e-12)
 
 
+def test_orientation_form_is_the_signed_determinant():
+    """``det[J_S; P̂]/vol = sign det[J_S; Vᵀ] · det(P̂ V)`` for random J_S and both orientations of V."""
+    rng = np.random.default_rng(11)
+    for trial in range(40):
+        js = rng.standard_normal((4, 7))
+        p_hat = indicators.unit_rows(rng.standard_normal((3, 7)))[0]
+        v = np.linalg.svd(js)[2][4:].T
+        if trial % 2:
+            v[:, 0] *= -1  # the other orientation of the same null space
+        m = p_hat @ v
+        sv = np.linalg.svd(m, compute_uv=False)
+        o = indicators.basis_orientation(js, v)
+        assert o in (-1.0, 1.0)
+        by_det = indicators.dkp_value(p_hat, sv, 3, js)
+        by_orientation = indicators.dkp_value(p_hat, sv, 3, js, restricted_matrix=m, orientation=o)
+        assert by_orientation == pytest.approx(by_det, rel=1e-12)
+        assert by_orientation == pytest.approx(o * np.linalg.det(m), rel=1e-12)
+
+
+@pytest.mark.parametrize("name", ["fourbar_appendix", "rrr_3", "slider_crank", "five_bar", "rssr"])
+def test_analyze_dkp_values_are_the_determinant_form(name):
+    """``analyze`` (orientation form) against ``det[J_S; P̂]/sqrt(det(J_S J_Sᵀ))`` written out here."""
+    ev = symkin.evaluators(get(name))
+    rng = np.random.default_rng(5)
+    q = ev.project(ev.q0 + 0.03 * ev.mech.length_scale * rng.standard_normal((6, ev.nf)))
+    for x in q:
+        mech = ev.mechanism_at(x)
+        a = symkin.analyze(mech)
+        jf = a.motion.J
+        js = jf[list(indicators.basis_rows(jf, a.mobility, Tolerances()))]
+        vol = math.sqrt(np.linalg.det(js @ js.T))
+        for params, got in ((mech.inputs, a.dkp_input), (mech.outputs, a.dkp_output)):
+            p_hat = a.motion.unit_rows(tuple(params))
+            if p_hat.shape[0] != a.mobility:
+                continue
+            want = np.linalg.det(np.vstack([js, p_hat])) / vol
+            assert got == pytest.approx(want, rel=1e-10, abs=1e-14)
+
+
 def test_stacked_and_single_forms_are_the_same_definition():
     rng = np.random.default_rng(3)
     js = rng.standard_normal((6, 2, 4))

@@ -37,3 +37,15 @@ def test_redundant_rows_give_self_stresses():
     ms = symkin.motion_space(symkin.read_model(EXAMPLES / "fig12_3rsr_b.toml"))
     assert ms.J.shape[0] > ms.rank
     assert ms.U[:, ms.rank:].shape[1] == ms.J.shape[0] - ms.rank
+
+
+def test_motion_space_built_fast_has_every_field():
+    """``motion_space`` fills the frozen dataclass without its ``__init__``: every field is set."""
+    import dataclasses
+
+    from symkin.analysis.motion_space import MotionSpace
+
+    ms = symkin.motion_space(catalogue.get("rrr_3"))
+    assert {f.name for f in dataclasses.fields(MotionSpace)} <= set(ms.__dict__)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ms.dof = 0
