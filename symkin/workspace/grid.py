@@ -26,7 +26,7 @@ Guards (as ``trace`` guards its steps):
 
 Memory stays bounded: only two waves of configurations are held while continuing; the
 configurations at *bracket* points (a neighbour with another DKP sign pattern, or not
-assembled) are kept for refinement (:mod:`symkin.workspace.loci`), all of them only with
+assembled, or a near-zero minimum of a DKP test function: :func:`symkin.workspace.quadtree.dips`) are kept for refinement (:mod:`symkin.workspace.loci`), all of them only with
 ``keep_configurations=True``.
 
 Arrays of a mode are ``(ny, nx)``, indexed ``[j, i]`` ↔ ``(xs[i], ys[j])``.
@@ -40,6 +40,7 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.tolerances import Tolerances
+from symkin.workspace.quadtree import dips
 from symkin.workspace.system import NEWTON_TOL, MapSystem
 
 __all__ = ["Axis", "parse_axis", "make_axes", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
@@ -295,6 +296,8 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
             st = status[jn, in_]
             other = (st == 1) & np.any(signs[jn, in_] != signs[j, i], axis=1)
             bracket |= inside & ((st == 2) | (st == 3) | other)
+        for values in (d_in, d_out):  # near-zero minima of |T|: the quadtree starts there (double zeros)
+            bracket |= dips(values, status == 1, j, i)
         for k in np.flatnonzero(bracket):
             p = (int(j[k]), int(i[k]))
             kept[p] = points[p]
