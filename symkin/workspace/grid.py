@@ -43,7 +43,7 @@ from symkin.tolerances import Tolerances
 from symkin.workspace.quadtree import dips
 from symkin.workspace.system import NEWTON_TOL, MapSystem
 
-__all__ = ["Axis", "parse_axis", "make_axes", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
+__all__ = ["Axis", "parse_axis", "make_axes", "GRID_ARRAYS", "ModeArrays", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
 
 #: a solution may lie at most this fraction of the predictor's step from the tangent predictor.
 #: Near a quadratic fold (the mode's workspace boundary, where q ~ sqrt(distance)) the tangent
@@ -108,18 +108,21 @@ def make_axes(x: str, y: str, n) -> tuple[tuple[str, float, float], tuple[str, f
 
 
 # ---------------------------------------------------------------------- result of one mode
+#: the grid arrays of a mode (:class:`ModeArrays` attributes; ``.npz`` entries ``mode<id>_<name>``)
+GRID_ARRAYS = ("assembled", "rejected", "im_indicator", "dkp_input", "dkp_output", "types")
+
+
 @dataclass(frozen=True, eq=False)
-class ModeGrid:
-    """One working mode continued over the grid (arrays ``(ny, nx)``; NaN where not assembled).
+class ModeArrays:
+    """A working mode's seed and grid arrays ``(ny, nx)`` (NaN where not assembled): the one definition
+    that :class:`ModeGrid` (the continuation's result) and :class:`symkin.workspace.maps.ModeMap`
+    (a mode of a map) share.
 
     Attributes
     ----------
     seed_q : (nf,) the seed configuration; ``assembled`` bool; ``rejected`` bool (converged
     solutions not accepted by the jump checks); ``im_indicator``, ``dkp_input``,
-    ``dkp_output`` (the core's values); ``types`` int8 bits (:data:`TYPE_BITS`);
-    ``branch_changes`` pairs of grid indices ``((j, i), (j2, i2))`` where the two routes give
-    different configurations; ``configurations`` ``{(j, i): q}`` at bracket points; ``q``
-    ``(ny, nx, nf)`` (NaN where not assembled) only with ``keep_configurations``.
+    ``dkp_output`` (the core's values); ``types`` int8 bits (:data:`TYPE_BITS`).
     """
 
     seed_q: np.ndarray = field(repr=False)
@@ -129,15 +132,36 @@ class ModeGrid:
     dkp_input: np.ndarray = field(repr=False)
     dkp_output: np.ndarray = field(repr=False)
     types: np.ndarray = field(repr=False)
-    branch_changes: tuple = ()
-    configurations: dict = field(default_factory=dict, repr=False)
-    q: np.ndarray | None = field(default=None, repr=False)
-    note: str = ""
 
     @property
     def fraction(self) -> float:
         """Assembled fraction of the grid points."""
         return float(np.count_nonzero(self.assembled)) / self.assembled.size
+
+    def type_mask(self, kind: str) -> np.ndarray:
+        """Grid points the core decides to be of type ``kind`` (``IM``, ``DKP-input``, ``DKP-output``)."""
+        return (self.types & TYPE_BITS[kind]) != 0
+
+    def arrays(self) -> dict:
+        """``{name: array}`` of :data:`GRID_ARRAYS` and ``seed_q``."""
+        return {"seed_q": self.seed_q, **{name: getattr(self, name) for name in GRID_ARRAYS}}
+
+
+@dataclass(frozen=True, eq=False)
+class ModeGrid(ModeArrays):
+    """One working mode continued over the grid: :class:`ModeArrays` and what continuation found.
+
+    Attributes
+    ----------
+    branch_changes : pairs of grid indices ``((j, i), (j2, i2))`` where the two routes give
+        different configurations; ``configurations`` ``{(j, i): q}`` at bracket points; ``q``
+        ``(ny, nx, nf)`` (NaN where not assembled) only with ``keep_configurations``.
+    """
+
+    branch_changes: tuple = ()
+    configurations: dict = field(default_factory=dict, repr=False)
+    q: np.ndarray | None = field(default=None, repr=False)
+    note: str = ""
 
     def config(self, j: int, i: int) -> np.ndarray | None:
         """The configuration at grid point ``[j, i]`` when it was kept (None otherwise)."""

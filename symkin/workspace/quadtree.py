@@ -54,7 +54,7 @@ def dips(values: np.ndarray, assembled: np.ndarray, j, i) -> np.ndarray:
     column, all three assembled and of one sign (no sign change: that is a crossing), with
     the parabola's minimum through the three values at most ``DIP_RATIO`` times its rise.
 
-    >>> t = np.array([[4.0, 1.0, 0.01, 1.0, 4.0], [5.0, 2.0, 1.0, 2.0, 5.0]])  # a double zero near x = 2
+    >>> t = np.array([[4.0, 1.0, 0.01, 1.0, 4.0], [5.0, 3.0, 2.5, 3.0, 5.0]])  # a double zero; a valley
     >>> dips(t, np.ones(t.shape, bool), np.array([0, 1]), np.array([2, 2])).tolist()
     [True, False]
     """
