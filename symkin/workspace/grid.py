@@ -176,7 +176,7 @@ def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray) -> np.ndarray:
     """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units)."""
     _, jac = system.evaluate("square", q, system.targets(a))
     nf = system.nf
-    scale = np.array([c.scale(system.mech.length_scale) for c in system.axes])
+    scale = system.axis_scale
     rhs = np.zeros((nf, 2))
     rhs[nf - 2, 0], rhs[nf - 1, 1] = 1.0 / scale[0], 1.0 / scale[1]
     try:
@@ -196,7 +196,7 @@ def _march(system: MapSystem, q: np.ndarray, a: np.ndarray, a_dst: np.ndarray, s
     """
     q = np.array(q, dtype=float)
     n = q.shape[0]
-    ell = system.mech.length_scale
+    ell = system.ell
     conv = np.zeros(n, bool)
     acc = np.zeros(n, bool) if steps < 1 else np.ones(n, bool)
     live = np.arange(n)
@@ -229,7 +229,7 @@ _NEIGHBOURS = ((0, 1), (0, -1), (1, 0), (-1, 0))
 
 def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray,
                   tolerances: Tolerances | float | None = None, keep_configurations: bool = False,
-                  jump: float = JUMP, progress=None) -> ModeGrid:
+                  jump: float = JUMP, progress=None, blocked: np.ndarray | None = None) -> ModeGrid:
     """Continue the mode of ``seed_q`` over the grid ``xs × ys`` (internal units) and evaluate the indicators.
 
     Parameters
@@ -242,25 +242,35 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
     keep_configurations : keep every configuration (``ModeGrid.q``, ``(ny, nx, nf)``).
     jump : the predictor-distance ratio (:data:`JUMP`).
     progress : optional callable ``progress(k)`` told the number of points done per wave.
+    blocked : (ny, nx) bool, optional
+        Grid points not to continue over (already solved from another seed): they are neither
+        solved nor passed through, and come out not assembled.
     """
     tol = Tolerances.of(tolerances)
     ev = system.evaluators
-    ell = system.mech.length_scale
+    ell = system.ell
     nx, ny, nf = len(xs), len(ys), system.nf
     shape = (ny, nx)
-    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected
+    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected, 4 blocked
+    if blocked is not None:
+        status[np.asarray(blocked, bool)] = 4
     im = np.full(shape, np.nan)
-    d_in = np.full(shape, np.nan)
-    d_out = np.full(shape, np.nan)
     types = np.zeros(shape, np.int8)
+    dkp = np.full((2,) + shape, np.nan)  # the DKP-input and DKP-output values, stacked
+    d_in, d_out = dkp[0], dkp[1]
     signs = np.zeros(shape + (2,), np.int8)
     full_q = np.full(shape + (nf,), np.nan) if keep_configurations else None
     kept: dict = {}
     branches: list = []
-    axis_scale = np.array([c.scale(ell) for c in system.axes])
+    axis_scale = system.axis_scale
 
     def at(j, i):
         return np.array([xs[i], ys[j]])
+
+    def points_at(idx: list) -> np.ndarray:
+        """Axis values (N, 2) of grid indices ``[(j, i), ...]``."""
+        ji = np.array(idx, np.intp).reshape(-1, 2)
+        return np.column_stack([xs[ji[:, 1]], ys[ji[:, 0]]])
 
     # -- the seed's grid point, reached by marching from the seed
     seed_q = np.asarray(seed_q, float).ravel()
@@ -269,8 +279,11 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
     # the grid points nearest the seed (its cell's corners first), batched: the first one reached starts
     near_i = np.argsort(np.abs(xs - a_seed[0]), kind="stable")[:3]
     near_j = np.argsort(np.abs(ys - a_seed[1]), kind="stable")[:3]
-    starts = sorted(((int(j), int(i)) for j in near_j for i in near_i),
+    starts = sorted(((int(j), int(i)) for j in near_j for i in near_i if status[j, i] != 4),
                     key=lambda p: float(np.linalg.norm((at(*p) - a_seed) / axis_scale)))
+    if not starts:
+        return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, (), {}, full_q,
+                        "the grid points next to the seed are blocked")
     dst = np.array([at(*p) for p in starts])
     dist = float(np.max(np.linalg.norm((dst - a_seed) / axis_scale, axis=1)))
     steps = max(1, int(math.ceil(2 * dist / cell)))
@@ -320,8 +333,8 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
             st = status[jn, in_]
             other = (st == 1) & np.any(signs[jn, in_] != signs[j, i], axis=1)
             bracket |= inside & ((st == 2) | (st == 3) | other)
-        for values in (d_in, d_out):  # near-zero minima of |T|: the quadtree starts there (double zeros)
-            bracket |= dips(values, status == 1, j, i)
+        # near-zero minima of |T|: the quadtree starts there (double zeros, curves narrower than a cell)
+        bracket |= dips(dkp, status == 1, j, i)
         for k in np.flatnonzero(bracket):
             p = (int(j[k]), int(i[k]))
             kept[p] = points[p]
@@ -340,8 +353,7 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         cand = list(sources)
         src = [sources[p][0] for p in cand]
         q_src = np.array([wave[s] for s in src])
-        a_src = np.array([at(*s) for s in src])
-        a_dst = np.array([at(*p) for p in cand])
+        a_src, a_dst = points_at(src), points_at(cand)
         q_new, conv, acc = _march(system, q_src, a_src, a_dst, 1, jump)
         for k_sub in _SUBSTEPS:
             redo = np.flatnonzero(~acc)
@@ -358,7 +370,7 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         if check:
             kk = np.array([c[0] for c in check])
             q2_src = np.array([wave[c[1]] for c in check])
-            a2_src = np.array([at(*c[1]) for c in check])
+            a2_src = points_at([c[1] for c in check])
             t = _tangents(system, q2_src, a2_src)
             dq = np.einsum("nij,nj->ni", t, a_dst[kk] - a2_src)
             far = np.linalg.norm(q_new[kk] - (q2_src + dq), axis=1) > jump * np.linalg.norm(dq, axis=1) + \

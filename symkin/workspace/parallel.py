@@ -46,7 +46,7 @@ __all__ = ["MapSpec", "TileResult", "DASK_EXTRA", "TILE", "tile_bounds", "coarse
 #: the message part that names the optional extra
 DASK_EXTRA = 'the dask extra: pip install -e ".[dask]" (dask[distributed])'
 #: default tile side, in grid points
-TILE = 64
+TILE = 256
 
 
 # ---------------------------------------------------------------------- the map's problem as plain data
@@ -135,8 +135,8 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
     """Continue a mode over one tile (``xs``, ``ys``: the tile's axis values, internal units) from its seeds.
 
     The first seed is continued over the whole tile with :func:`continue_mode`; a further
-    seed only when the tile's grid point nearest it is not assembled yet, and it fills only
-    points still unassembled.  ``(j0, i0)`` is the tile's first grid index (for the global
+    seed only when the tile's grid point nearest it is not assembled yet, and only over the
+    points still unassembled (the assembled ones are ``blocked``: not solved again).  ``(j0, i0)`` is the tile's first grid index (for the global
     indices of the results).  With ``previous`` (this tile's earlier result) the tile continues
     from that state: seeds whose grid point it already assembled are skipped.
     """
@@ -164,7 +164,7 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
         j_near = int(np.argmin(np.abs(ys - a[1]) / scale[1]))
         if out["assembled"][j_near, i_near]:
             continue
-        g = continue_mode(system, xs, ys, seed, tol, keep_configurations=True)
+        g = continue_mode(system, xs, ys, seed, tol, keep_configurations=True, blocked=out["assembled"])
         new = g.assembled & ~out["assembled"]
         for name in ("im_indicator", "dkp_input", "dkp_output", "types"):
             out[name][new] = getattr(g, name)[new]

@@ -53,31 +53,35 @@ def dips(values: np.ndarray, assembled: np.ndarray, j, i) -> np.ndarray:
     A dip is a point whose ``|T|`` is at most that of its two neighbours along a grid row or
     column, all three assembled and of one sign (no sign change: that is a crossing), with
     the parabola's minimum through the three values at most ``DIP_RATIO`` times its rise.
+    ``values`` may stack several functions, ``(m, ny, nx)``: a dip of any of them counts.
 
     >>> t = np.array([[4.0, 1.0, 0.01, 1.0, 4.0], [5.0, 3.0, 2.5, 3.0, 5.0]])  # a double zero; a valley
     >>> dips(t, np.ones(t.shape, bool), np.array([0, 1]), np.array([2, 2])).tolist()
     [True, False]
     """
     v = np.asarray(values, float)
-    asm = np.asarray(assembled, bool) & np.isfinite(v)
-    j, i = np.atleast_1d(np.asarray(j, int)), np.atleast_1d(np.asarray(i, int))
-    ny, nx = v.shape
+    asm = np.asarray(assembled, bool)
+    j, i = np.atleast_1d(np.asarray(j, np.intp)), np.atleast_1d(np.asarray(i, np.intp))
+    ny, nx = v.shape[-2:]
     out = np.zeros(j.shape, bool)
     with np.errstate(invalid="ignore", divide="ignore"):
+        f0 = np.where(asm[j, i], v[..., j, i], np.nan)
         for dj, di in ((0, 1), (1, 0)):
-            ja, ia, jb, ib = j - dj, i - di, j + dj, i + di
-            inside = (ja >= 0) & (ia >= 0) & (jb < ny) & (ib < nx)
-            ja, ia, jb, ib = (np.clip(ja, 0, ny - 1), np.clip(ia, 0, nx - 1), np.clip(jb, 0, ny - 1),
-                              np.clip(ib, 0, nx - 1))
-            f0, fa, fb = v[j, i], v[ja, ia], v[jb, ib]
-            s0 = np.sign(f0)
-            ok = inside & asm[j, i] & asm[ja, ia] & asm[jb, ib] & (s0 != 0) & (np.sign(fa) == s0) & \
-                (np.sign(fb) == s0)
-            f0, fa, fb = np.abs(f0), np.abs(fa), np.abs(fb)
-            rise = 0.5 * (fa + fb) - f0
-            ok &= (f0 <= fa) & (f0 <= fb) & (rise > 0)
-            low = f0 - (fb - fa) ** 2 / (16.0 * np.where(rise > 0, rise, 1.0))
-            out |= ok & (low <= DIP_RATIO * rise)
+            inside = (j >= dj) & (i >= di) & (j + dj < ny) & (i + di < nx)
+            if not inside.any():
+                continue
+            ja, ia = np.maximum(j - dj, 0), np.maximum(i - di, 0)
+            jb, ib = np.minimum(j + dj, ny - 1), np.minimum(i + di, nx - 1)
+            fa = np.where(asm[ja, ia], v[..., ja, ia], np.nan)
+            fb = np.where(asm[jb, ib], v[..., jb, ib], np.nan)
+            # one sign (NaN where not assembled fails every comparison) and |f0| the smallest of the three
+            same = (f0 * fa > 0) & (f0 * fb > 0)
+            a0, aa, ab = np.abs(f0), np.abs(fa), np.abs(fb)
+            rise = 0.5 * (aa + ab) - a0
+            ok = same & (a0 <= aa) & (a0 <= ab) & (rise > 0)
+            low = a0 - (ab - aa) ** 2 / (16.0 * np.where(rise > 0, rise, 1.0))
+            hit = ok & (low <= DIP_RATIO * rise)
+            out |= inside & (hit.any(axis=0) if hit.ndim > 1 else hit)
     return out
 
 

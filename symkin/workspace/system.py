@@ -271,12 +271,19 @@ class MapSystem:
     evaluators: Evaluators = field(init=False, repr=False)
     rows: tuple[int, ...] = field(init=False)
     functions: dict = field(init=False, repr=False)
+    #: the model's length scale (``mech.length_scale``, computed once)
+    ell: float = field(init=False, repr=False)
+    #: internal units per dimensionless unit of each axis (``ℓ`` for a length, 1 for an angle)
+    axis_scale: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
         self.evaluators = evaluators_for(self.mech)
         ev = self.evaluators
         m = ev.model
         scale = self.mech.length_scale
+        self.ell = float(scale)
+        self.axis_scale = np.array([c.scale(scale) for c in self.axes], float)
+        self._shapes: dict = {}
         f, nf = ev.mobility, ev.nf
         q = ca.SX.sym("q", nf)
         x = ca.substitute(m.x, m.q, q)
@@ -390,12 +397,18 @@ class MapSystem:
         buffer interface (no Python loop per point, no conversion to ``DM``).
         """
         f = self.functions[name]
+        shapes = self._shapes.get(name)
+        if shapes is None:  # the Function's sizes, asked of CasADi once
+            shapes = self._shapes[name] = ([f.numel_in(k) for k in range(f.n_in())],
+                                           [f.size_out(i) for i in range(f.n_out())])
+        numel_in, size_out = shapes
         n = max(np.shape(a)[0] if np.ndim(a) == 2 else 1 for a in args)
         ins = []
         for k, a in enumerate(args):
-            a = np.asarray(a, dtype=float)
-            ins.append(np.ascontiguousarray(np.broadcast_to(a.reshape(-1, f.numel_in(k)), (n, f.numel_in(k)))))
-        outs = [np.empty((n,) + f.size_out(i)[::-1]) for i in range(f.n_out())]
+            a = np.asarray(a, dtype=float).reshape(-1, numel_in[k])
+            ins.append(a if a.shape[0] == n and a.flags.c_contiguous else
+                       np.ascontiguousarray(np.broadcast_to(a, (n, numel_in[k]))))
+        outs = [np.empty((n,) + so[::-1]) for so in size_out]
         size = min(_CHUNK, 1 << max(0, (n - 1).bit_length()))
         hit = self._maps.get((name, size))
         if hit is None:
@@ -422,8 +435,7 @@ class MapSystem:
                 for o, po in zip(outs, part_out):
                     o[start:stop] = po[: stop - start]
         result = []
-        for i, o in enumerate(outs):
-            r, c = f.size_out(i)
+        for o, (r, c) in zip(outs, size_out):
             result.append(o.reshape(n, r) if c == 1 else o.transpose(0, 2, 1))
         return result
 
