@@ -43,7 +43,7 @@ from symkin.tolerances import Tolerances
 from symkin.workspace.quadtree import dips
 from symkin.workspace.system import NEWTON_TOL, MapSystem
 
-__all__ = ["Axis", "parse_axis", "make_axes", "GRID_ARRAYS", "ModeArrays", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
+__all__ = ["Axis", "parse_axis", "make_axes", "GRID_ARRAYS", "ModeArrays", "ModeGrid", "continue_mode", "continue_modes", "JUMP", "TYPE_BITS", "type_names"]
 
 #: a solution may lie at most this fraction of the predictor's step from the tangent predictor.
 #: Near a quadratic fold (the mode's workspace boundary, where q ~ sqrt(distance)) the tangent
@@ -181,10 +181,13 @@ def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray) -> np.ndarray:
     rhs[nf - 2, 0], rhs[nf - 1, 1] = 1.0 / scale[0], 1.0 / scale[1]
     try:
         return np.linalg.solve(jac, np.broadcast_to(rhs, (q.shape[0], nf, 2)))
-    except np.linalg.LinAlgError:
+    except np.linalg.LinAlgError:  # per point: a singular one does not change the others' (bit-for-bit)
         out = np.zeros((q.shape[0], nf, 2))
         for k in range(q.shape[0]):
-            out[k] = np.linalg.lstsq(jac[k], rhs, rcond=None)[0]
+            try:
+                out[k] = np.linalg.solve(jac[k], rhs)
+            except np.linalg.LinAlgError:
+                out[k] = np.linalg.lstsq(jac[k], rhs, rcond=None)[0]
         return out
 
 
@@ -246,12 +249,35 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         Grid points not to continue over (already solved from another seed): they are neither
         solved nor passed through, and come out not assembled.
     """
+    region = (0, len(ys), 0, len(xs), seed_q)
+    return continue_modes(system, xs, ys, [region], tolerances, keep_configurations, jump, progress, blocked)[0]
+
+
+def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: list,
+                   tolerances: Tolerances | float | None = None, keep_configurations: bool = False,
+                   jump: float = JUMP, progress=None, blocked: np.ndarray | None = None,
+                   keep: np.ndarray | None = None) -> list[ModeGrid]:
+    """Continue a seed in each of several disjoint grid regions at once: one wave of every region per batch.
+
+    ``regions`` ``[(j0, j1, i0, i1, seed_q), …]`` are index ranges of the grid ``xs × ys``
+    (the tiles of :mod:`symkin.workspace.parallel`); no step, neighbour check or bracket test
+    crosses a region's edge, and every computation is per point (batched Newton, stacked
+    LAPACK solves, the core's batch), so each region's result is the one
+    :func:`continue_mode` gives on its own sub-grid ``xs[i0:i1] × ys[j0:j1]``: only the
+    batches are bigger (fewer waves, the per-wave cost shared).  ``keep`` (``(ny, nx)`` bool)
+    marks points whose configurations are kept as well as the brackets'.  Returns one
+    :class:`ModeGrid` per region, on its sub-grid (local indices).
+    """
     tol = Tolerances.of(tolerances)
     ev = system.evaluators
     ell = system.ell
     nx, ny, nf = len(xs), len(ys), system.nf
     shape = (ny, nx)
-    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected, 4 blocked
+    region = np.full(shape, -1, np.int32)
+    for r, (j0, j1, i0, i1, _) in enumerate(regions):
+        region[j0:j1, i0:i1] = r
+    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected, 4 blocked (or in no region)
+    status[region < 0] = 4
     if blocked is not None:
         status[np.asarray(blocked, bool)] = 4
     im = np.full(shape, np.nan)
@@ -261,7 +287,8 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
     signs = np.zeros(shape + (2,), np.int8)
     full_q = np.full(shape + (nf,), np.nan) if keep_configurations else None
     kept: dict = {}
-    branches: list = []
+    branches: list = [[] for _ in regions]
+    notes = [""] * len(regions)
     axis_scale = system.axis_scale
 
     def at(j, i):
@@ -271,34 +298,6 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         """Axis values (N, 2) of grid indices ``[(j, i), ...]``."""
         ji = np.array(idx, np.intp).reshape(-1, 2)
         return np.column_stack([xs[ji[:, 1]], ys[ji[:, 0]]])
-
-    # -- the seed's grid point, reached by marching from the seed
-    seed_q = np.asarray(seed_q, float).ravel()
-    a_seed = system.axis_values(seed_q[None])[0]
-    cell = min(np.min(np.abs(np.diff(xs))) / axis_scale[0], np.min(np.abs(np.diff(ys))) / axis_scale[1])
-    # the grid points nearest the seed (its cell's corners first), batched: the first one reached starts
-    near_i = np.argsort(np.abs(xs - a_seed[0]), kind="stable")[:3]
-    near_j = np.argsort(np.abs(ys - a_seed[1]), kind="stable")[:3]
-    starts = sorted(((int(j), int(i)) for j in near_j for i in near_i if status[j, i] != 4),
-                    key=lambda p: float(np.linalg.norm((at(*p) - a_seed) / axis_scale)))
-    if not starts:
-        return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, (), {}, full_q,
-                        "the grid points next to the seed are blocked")
-    dst = np.array([at(*p) for p in starts])
-    dist = float(np.max(np.linalg.norm((dst - a_seed) / axis_scale, axis=1)))
-    steps = max(1, int(math.ceil(2 * dist / cell)))
-    ok = np.zeros(len(starts), bool)
-    for refine_steps in (1, 4, 16):  # finer sub-steps when the seed is near a singularity
-        q_all, _, ok = _march(system, np.repeat(seed_q[None], len(starts), 0), np.repeat(a_seed[None], len(starts), 0),
-                              dst, steps * refine_steps, jump)
-        if ok.any():
-            break
-    note = ""
-    if not ok.any():
-        note = "the mode does not reach the box from its seed"
-        return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, (), {}, full_q, note)
-    first = int(np.flatnonzero(ok)[0])
-    (j0, i0), q_start = starts[first], q_all[first: first + 1]
 
     def record(idx: list, q: np.ndarray, res=None, sel=None):
         if res is None:
@@ -313,11 +312,44 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         status[jj, ii] = 1
         if full_q is not None:
             full_q[jj, ii] = q
+        if keep is not None:
+            for k in np.flatnonzero(keep[jj, ii]):
+                kept[(int(jj[k]), int(ii[k]))] = q[k].copy()
 
-    record([(j0, i0)], q_start)
-    wave: dict = {(j0, i0): q_start[0]}
-    if progress:
-        progress(1)
+    # -- each region's seed grid point, reached by marching from its seed (region by region, as alone)
+    wave: dict = {}
+    seeds = []
+    for r, (j0, j1, i0, i1, seed_q) in enumerate(regions):
+        seed_q = np.asarray(seed_q, float).ravel()
+        seeds.append(seed_q)
+        xs_r, ys_r = xs[i0:i1], ys[j0:j1]
+        a_seed = system.axis_values(seed_q[None])[0]
+        cell = min(np.min(np.abs(np.diff(xs_r))) / axis_scale[0], np.min(np.abs(np.diff(ys_r))) / axis_scale[1])
+        # the grid points nearest the seed (its cell's corners first), batched: the first one reached starts
+        near_i = i0 + np.argsort(np.abs(xs_r - a_seed[0]), kind="stable")[:3]
+        near_j = j0 + np.argsort(np.abs(ys_r - a_seed[1]), kind="stable")[:3]
+        starts = sorted(((int(j), int(i)) for j in near_j for i in near_i if status[j, i] != 4),
+                        key=lambda p: float(np.linalg.norm((at(*p) - a_seed) / axis_scale)))
+        if not starts:
+            notes[r] = "the grid points next to the seed are blocked"
+            continue
+        dst = np.array([at(*p) for p in starts])
+        dist = float(np.max(np.linalg.norm((dst - a_seed) / axis_scale, axis=1)))
+        steps = max(1, int(math.ceil(2 * dist / cell)))
+        ok = np.zeros(len(starts), bool)
+        for refine_steps in (1, 4, 16):  # finer sub-steps when the seed is near a singularity
+            q_all, _, ok = _march(system, np.repeat(seed_q[None], len(starts), 0),
+                                  np.repeat(a_seed[None], len(starts), 0), dst, steps * refine_steps, jump)
+            if ok.any():
+                break
+        if not ok.any():
+            notes[r] = "the mode does not reach the box from its seed"
+            continue
+        first = int(np.flatnonzero(ok)[0])
+        record([starts[first]], q_all[first: first + 1])
+        wave[starts[first]] = q_all[first]
+        if progress:
+            progress(1)
 
     def keep_brackets(points: dict):
         """Keep the configurations of ``points`` with a neighbour not assembled or of another DKP sign pattern."""
@@ -330,25 +362,31 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
             jn, in_ = j + dj, i + di
             inside = (jn >= 0) & (jn < ny) & (in_ >= 0) & (in_ < nx)
             jn, in_ = np.clip(jn, 0, ny - 1), np.clip(in_, 0, nx - 1)
+            inside &= region[jn, in_] == region[j, i]
             st = status[jn, in_]
             other = (st == 1) & np.any(signs[jn, in_] != signs[j, i], axis=1)
             bracket |= inside & ((st == 2) | (st == 3) | other)
         # near-zero minima of |T|: the quadtree starts there (double zeros, curves narrower than a cell)
-        bracket |= dips(dkp, status == 1, j, i)
+        bracket |= dips(dkp, status == 1, j, i, region=region)
         for k in np.flatnonzero(bracket):
             p = (int(j[k]), int(i[k]))
             kept[p] = points[p]
 
     while wave:
-        # candidates: untried or failed neighbours of the wave, each with its solved wave neighbours
+        # candidates: untried or failed neighbours of the wave in its region, each with its solved wave neighbours
         sources: dict = {}
         for (j, i) in wave:
+            r = region[j, i]
             for dj, di in _NEIGHBOURS:
                 p = (j + dj, i + di)
-                if 0 <= p[0] < ny and 0 <= p[1] < nx and status[p] in (0, 2):
+                if 0 <= p[0] < ny and 0 <= p[1] < nx and status[p] in (0, 2) and region[p] == r:
                     sources.setdefault(p, []).append((j, i))
+        busy = {int(region[p]) for p in sources}
+        done = {p: q for p, q in wave.items() if int(region[p]) not in busy}
+        if done:  # regions whose continuation ends here
+            keep_brackets(done)
+            wave = {p: q for p, q in wave.items() if int(region[p]) in busy}
         if not sources:
-            keep_brackets(wave)
             break
         cand = list(sources)
         src = [sources[p][0] for p in cand]
@@ -380,7 +418,8 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
                 q3, _, a3 = _march(system, q2_src[sel], a2_src[sel], a_dst[kk[sel]], 4, jump)
                 differ = a3 & (np.linalg.norm(q3 - q_new[kk[sel]], axis=1) > tol.same_configuration * ell)
                 for m in np.flatnonzero(differ):
-                    branches.append((cand[kk[sel[m]]], check[sel[m]][1]))
+                    p = cand[kk[sel[m]]]
+                    branches[region[p]].append((p, check[sel[m]][1]))
         # indicators, and the sign-pattern check against the source neighbour
         if good.size:
             res = ev.batch(q_new[good], tol)
@@ -388,20 +427,26 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
             src_sg = np.array([signs[src[k]] for k in good])
             changed = np.flatnonzero(np.any(sg != src_sg, axis=1) & np.all(sg != 0, axis=1)
                                      & np.all(src_sg != 0, axis=1))
-            keep = np.ones(good.size, bool)
+            keep_ok = np.ones(good.size, bool)
             if changed.size:
                 kg = good[changed]
                 q4, _, a4 = _march(system, q_src[kg], a_src[kg], a_dst[kg], 4, jump)
                 same = a4 & (np.linalg.norm(q4 - q_new[kg], axis=1) <= tol.same_configuration * ell)
                 for m in np.flatnonzero(~same):
                     status[cand[kg[m]]] = 3
-                keep[changed[~same]] = False
-            good, sel = good[keep], np.flatnonzero(keep)
+                keep_ok[changed[~same]] = False
+            good, sel = good[keep_ok], np.flatnonzero(keep_ok)
             if good.size:
                 record([cand[k] for k in good], q_new[good], res, sel)
         keep_brackets(wave)
         wave = {cand[k]: q_new[k] for k in good}
         if progress:
             progress(len(cand))
-    return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, tuple(branches), kept, full_q,
-                    note)
+    out = []
+    for r, (j0, j1, i0, i1, _) in enumerate(regions):
+        sl = (slice(j0, j1), slice(i0, i1))
+        local = {(j - j0, i - i0): q for (j, i), q in kept.items() if region[j, i] == r}
+        br = tuple(((a[0] - j0, a[1] - i0), (b[0] - j0, b[1] - i0)) for a, b in branches[r])
+        out.append(ModeGrid(seeds[r], status[sl] == 1, status[sl] == 3, im[sl], d_in[sl], d_out[sl], types[sl], br,
+                            local, None if full_q is None else full_q[sl], notes[r]))
+    return out

@@ -47,13 +47,14 @@ DEPTH = 3
 _MARCH = 2
 
 
-def dips(values: np.ndarray, assembled: np.ndarray, j, i) -> np.ndarray:
+def dips(values: np.ndarray, assembled: np.ndarray, j, i, region: np.ndarray | None = None) -> np.ndarray:
     """Whether each grid point ``(j[k], i[k])`` is a near-zero minimum of ``|values|`` (see :data:`DIP_RATIO`).
 
     A dip is a point whose ``|T|`` is at most that of its two neighbours along a grid row or
     column, all three assembled and of one sign (no sign change: that is a crossing), with
     the parabola's minimum through the three values at most ``DIP_RATIO`` times its rise.
     ``values`` may stack several functions, ``(m, ny, nx)``: a dip of any of them counts.
+    With ``region`` (int, ``(ny, nx)``) only neighbours of the same region count (tiles).
 
     >>> t = np.array([[4.0, 1.0, 0.01, 1.0, 4.0], [5.0, 3.0, 2.5, 3.0, 5.0]])  # a double zero; a valley
     >>> dips(t, np.ones(t.shape, bool), np.array([0, 1]), np.array([2, 2])).tolist()
@@ -72,6 +73,8 @@ def dips(values: np.ndarray, assembled: np.ndarray, j, i) -> np.ndarray:
                 continue
             ja, ia = np.maximum(j - dj, 0), np.maximum(i - di, 0)
             jb, ib = np.minimum(j + dj, ny - 1), np.minimum(i + di, nx - 1)
+            if region is not None:
+                inside &= (region[ja, ia] == region[j, i]) & (region[jb, ib] == region[j, i])
             fa = np.where(asm[ja, ia], v[..., ja, ia], np.nan)
             fb = np.where(asm[jb, ib], v[..., jb, ib], np.nan)
             # one sign (NaN where not assembled fails every comparison) and |f0| the smallest of the three
