@@ -172,9 +172,14 @@ class ModeGrid(ModeArrays):
 
 
 # ---------------------------------------------------------------------- continuation
-def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray) -> np.ndarray:
-    """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units)."""
-    _, jac = system.evaluate("square", q, system.targets(a))
+def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray, jac: np.ndarray | None = None) -> np.ndarray:
+    """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units).
+
+    ``jac``: the square problem's Jacobian there when known (from the Newton solve that found
+    ``q``: :meth:`MapSystem.solve` ``return_jacobian``; it does not depend on ``a``).
+    """
+    if jac is None:
+        _, jac = system.evaluate("square", q, system.targets(a))
     nf = system.nf
     scale = system.axis_scale
     rhs = np.zeros((nf, 2))
@@ -191,35 +196,46 @@ def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray) -> np.ndarray:
         return out
 
 
-def _march(system: MapSystem, q: np.ndarray, a: np.ndarray, a_dst: np.ndarray, steps: int, jump: float):
+def _march(system: MapSystem, q: np.ndarray, a: np.ndarray, a_dst: np.ndarray, steps: int, jump: float,
+           jac: np.ndarray | None = None, tangent: np.ndarray | None = None):
     """Continue N configurations from axis values ``a`` to ``a_dst`` in ``steps`` equal sub-steps.
 
-    Returns ``(q, converged, accepted)``: ``converged`` Newton converged at ``a_dst`` (the
-    last sub-step was reached), ``accepted`` also within ``jump`` of every predictor.
+    ``jac`` (N, nf, nf) or ``tangent`` (N, nf, 2): the square problem's Jacobian or
+    ``∂q/∂a`` at the starting ``q`` when known (else evaluated); later sub-steps take it
+    from the Newton solve of the one before.  Returns ``(q, converged, accepted, jac)``:
+    ``converged`` Newton converged at ``a_dst`` (the last sub-step was reached),
+    ``accepted`` also within ``jump`` of every predictor; ``jac`` the Jacobian at the
+    returned ``q`` where accepted.
     """
     q = np.array(q, dtype=float)
     n = q.shape[0]
     ell = system.ell
     conv = np.zeros(n, bool)
     acc = np.zeros(n, bool) if steps < 1 else np.ones(n, bool)
+    jac_q = np.full((n, system.nf, system.nf), np.nan) if jac is None else np.array(jac, float)
+    known = jac is not None
     live = np.arange(n)
     for s in range(1, steps + 1):
         if live.size == 0:
             break
         a0 = a[live] + (a_dst[live] - a[live]) * ((s - 1) / steps)
         a1 = a[live] + (a_dst[live] - a[live]) * (s / steps)
-        t = _tangents(system, q[live], a0)
+        if s == 1 and tangent is not None:
+            t = np.asarray(tangent, float)[live]
+        else:
+            t = _tangents(system, q[live], a0, jac_q[live] if known or s > 1 else None)
         dq = np.einsum("nij,nj->ni", t, a1 - a0)
         pred = q[live] + dq
-        sol, ok, _, _ = system.solve(pred, a1)
+        sol, ok, _, _, jac_sol = system.solve(pred, a1, return_jacobian=True)
         dist = np.linalg.norm(sol - pred, axis=1) / ell
         good = ok & (dist <= jump * np.linalg.norm(dq, axis=1) / ell + 1e3 * NEWTON_TOL)
         if s == steps:
             conv[live[ok]] = True
         acc[live[~good]] = False
         q[live[good]] = sol[good]
+        jac_q[live[good]] = jac_sol[good]
         live = live[good]
-    return q, conv, acc
+    return q, conv, acc, jac_q
 
 
 def _signs(res, k: np.ndarray) -> np.ndarray:
@@ -318,6 +334,7 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
 
     # -- each region's seed grid point, reached by marching from its seed (region by region, as alone)
     wave: dict = {}
+    wave_jac: dict = {}  # the square problem's Jacobian at each wave point (from the Newton solve there)
     seeds = []
     for r, (j0, j1, i0, i1, seed_q) in enumerate(regions):
         seed_q = np.asarray(seed_q, float).ravel()
@@ -338,8 +355,8 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
         steps = max(1, int(math.ceil(2 * dist / cell)))
         ok = np.zeros(len(starts), bool)
         for refine_steps in (1, 4, 16):  # finer sub-steps when the seed is near a singularity
-            q_all, _, ok = _march(system, np.repeat(seed_q[None], len(starts), 0),
-                                  np.repeat(a_seed[None], len(starts), 0), dst, steps * refine_steps, jump)
+            q_all, _, ok, jac_all = _march(system, np.repeat(seed_q[None], len(starts), 0),
+                                           np.repeat(a_seed[None], len(starts), 0), dst, steps * refine_steps, jump)
             if ok.any():
                 break
         if not ok.any():
@@ -348,6 +365,7 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
         first = int(np.flatnonzero(ok)[0])
         record([starts[first]], q_all[first: first + 1])
         wave[starts[first]] = q_all[first]
+        wave_jac[starts[first]] = jac_all[first]
         if progress:
             progress(1)
 
@@ -390,15 +408,23 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
             break
         cand = list(sources)
         src = [sources[p][0] for p in cand]
+        # ∂q/∂a once per wave point (a source of several candidates, and of the branch checks)
+        w_idx = {p: k for k, p in enumerate(wave)}
+        w_list = list(wave)
+        w_tan = _tangents(system, np.array([wave[p] for p in w_list]), points_at(w_list),
+                          np.array([wave_jac[p] for p in w_list]))
+        s_idx = np.array([w_idx[p] for p in src])
         q_src = np.array([wave[s] for s in src])
+        jac_src = np.array([wave_jac[s] for s in src])
         a_src, a_dst = points_at(src), points_at(cand)
-        q_new, conv, acc = _march(system, q_src, a_src, a_dst, 1, jump)
+        q_new, conv, acc, jac_new = _march(system, q_src, a_src, a_dst, 1, jump, tangent=w_tan[s_idx])
         for k_sub in _SUBSTEPS:
             redo = np.flatnonzero(~acc)
             if redo.size == 0:
                 break
-            q2, c2, a2 = _march(system, q_src[redo], a_src[redo], a_dst[redo], k_sub, jump)
-            q_new[redo], acc[redo] = q2, a2
+            q2, c2, a2, j2 = _march(system, q_src[redo], a_src[redo], a_dst[redo], k_sub, jump,
+                                    jac=jac_src[redo], tangent=w_tan[s_idx[redo]])
+            q_new[redo], acc[redo], jac_new[redo] = q2, a2, j2
             conv[redo] |= c2
         for k in np.flatnonzero(~acc):
             status[cand[k]] = 3 if conv[k] else 2
@@ -409,13 +435,15 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
             kk = np.array([c[0] for c in check])
             q2_src = np.array([wave[c[1]] for c in check])
             a2_src = points_at([c[1] for c in check])
-            t = _tangents(system, q2_src, a2_src)
+            t = w_tan[[w_idx[c[1]] for c in check]]
             dq = np.einsum("nij,nj->ni", t, a_dst[kk] - a2_src)
             far = np.linalg.norm(q_new[kk] - (q2_src + dq), axis=1) > jump * np.linalg.norm(dq, axis=1) + \
                 1e3 * NEWTON_TOL * ell
             if np.any(far):
                 sel = np.flatnonzero(far)
-                q3, _, a3 = _march(system, q2_src[sel], a2_src[sel], a_dst[kk[sel]], 4, jump)
+                c_idx = np.array([w_idx[check[m][1]] for m in sel])
+                q3, _, a3, _ = _march(system, q2_src[sel], a2_src[sel], a_dst[kk[sel]], 4, jump,
+                                      jac=np.array([wave_jac[w_list[m]] for m in c_idx]), tangent=w_tan[c_idx])
                 differ = a3 & (np.linalg.norm(q3 - q_new[kk[sel]], axis=1) > tol.same_configuration * ell)
                 for m in np.flatnonzero(differ):
                     p = cand[kk[sel[m]]]
@@ -430,7 +458,8 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
             keep_ok = np.ones(good.size, bool)
             if changed.size:
                 kg = good[changed]
-                q4, _, a4 = _march(system, q_src[kg], a_src[kg], a_dst[kg], 4, jump)
+                q4, _, a4, _ = _march(system, q_src[kg], a_src[kg], a_dst[kg], 4, jump, jac=jac_src[kg],
+                                      tangent=w_tan[s_idx[kg]])
                 same = a4 & (np.linalg.norm(q4 - q_new[kg], axis=1) <= tol.same_configuration * ell)
                 for m in np.flatnonzero(~same):
                     status[cand[kg[m]]] = 3
@@ -440,6 +469,7 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
                 record([cand[k] for k in good], q_new[good], res, sel)
         keep_brackets(wave)
         wave = {cand[k]: q_new[k] for k in good}
+        wave_jac = {cand[k]: jac_new[k] for k in good}
         if progress:
             progress(len(cand))
     out = []

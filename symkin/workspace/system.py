@@ -443,7 +443,8 @@ class MapSystem:
         """Axis values (N, 2) of configurations ``q`` (N, nf), internal units."""
         return self.evaluate("axes", np.atleast_2d(q))[0]
 
-    def solve(self, q_start, xy, tol: float = NEWTON_TOL, max_iter: int = NEWTON_ITER):
+    def solve(self, q_start, xy, tol: float = NEWTON_TOL, max_iter: int = NEWTON_ITER,
+              return_jacobian: bool = False):
         """Batched Newton on :math:`S(q; x, y, h) = 0` from ``q_start`` (N, nf) to axis values ``xy`` (N, 2).
 
         Parameters
@@ -459,10 +460,16 @@ class MapSystem:
             finite (singular position problem) or whose residual grows from iteration
             :data:`DIVERGE_AFTER` on, is reported as not converged.
 
+        return_jacobian : bool
+            Also return ``∂S/∂q`` (N, nf, nf) at the solved configurations (NaN where not
+            converged): the Jacobian of the last residual evaluation (it does not depend on
+            the targets), so a tangent there needs no further evaluation.
+
         Returns
         -------
         q : (N, nf) solved configurations (the last iterate where not converged),
-        converged : (N,) bool, residual : (N,) ``max |S|``, iterations : (N,) int.
+        converged : (N,) bool, residual : (N,) ``max |S|``, iterations : (N,) int
+        (and the Jacobian, with ``return_jacobian``).
         """
         q = np.array(np.atleast_2d(q_start), dtype=float)
         t = self.targets(xy)
@@ -473,6 +480,7 @@ class MapSystem:
         residual = np.full(n, np.inf)
         iterations = np.zeros(n, int)
         active = np.arange(n)
+        jac_out = np.full((n, self.nf, self.nf), np.nan) if return_jacobian else None
         for it in range(max_iter + 1):
             if active.size == 0:
                 break
@@ -483,6 +491,8 @@ class MapSystem:
             done = err <= tol
             converged[active[done]] = True
             iterations[active[done]] = it
+            if jac_out is not None:
+                jac_out[active[done]] = jac[done]
             # a residual that grows after the first steps: Newton diverges (no solution near), stop it
             keep = ~done & np.isfinite(err) & ((it < DIVERGE_AFTER) | (err < before))
             active, s, jac = active[keep], s[keep], jac[keep]
@@ -493,6 +503,8 @@ class MapSystem:
             q[active[ok]] -= step[ok]
             iterations[active] = it + 1
             active = active[ok]
+        if return_jacobian:
+            return q, converged, residual, iterations, jac_out
         return q, converged, residual, iterations
 
 
