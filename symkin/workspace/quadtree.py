@@ -111,7 +111,7 @@ class Subdivision:
 
 def subdivide(sample: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, float]], a_centre: np.ndarray,
               y_centre: np.ndarray, t_centre: float, cell: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-              depth: int = DEPTH) -> Subdivision:
+              depth: int | None = None) -> Subdivision:
     """Subdivide the (up to four) grid cells around a dip at ``a_centre`` (see the module docstring).
 
     Parameters
@@ -123,8 +123,8 @@ def subdivide(sample: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, float
     a_centre, y_centre, t_centre : the dip's axis values, configuration and ``T``.
     cell : (2,) the grid's cell sides (dimensionless).
     lo, hi : (2,) the box; cells outside it are not subdivided.
-    depth : int
-        Finest cells have side ``cell / 2**depth``.
+    depth : int, optional
+        Finest cells have side ``cell / 2**depth`` (default :data:`DEPTH`).
 
     A point is solved from the nearest point already solved in ``_MARCH`` sub-steps per
     finest cell (a short continuation: no jump to another mode over a large step).  A cell
@@ -132,7 +132,7 @@ def subdivide(sample: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, float
     its parent's nine points (the dip); a cell with a corner that does not assemble is left
     (its boundary is a fold, located from the grid).
     """
-    m = 2 ** int(depth)
+    m = 2 ** int(DEPTH if depth is None else depth)
     fine = np.asarray(cell, float) / m
     a_centre = np.asarray(a_centre, float)
     pts: dict = {(0, 0): (np.asarray(y_centre, float), float(t_centre))}

@@ -133,9 +133,15 @@ def test_double_zero_circle_is_traced_on_the_closed_form(double_zero_map):
 
 
 @pytest.mark.slow
-def test_double_zero_is_found_on_a_coarse_grid():
+def test_double_zero_is_found_on_a_coarse_grid_by_the_quadtree(monkeypatch):
+    """A 9 × 9 grid (cells of 0.875 × 0.525 against a circle of radius 2): the subdivided cells find the
+    circle; without subdivision (depth 0: the grid's own cells) it is missed."""
     mech = _catalogue_five_bar((0.3, 2.4), MODE0)
     wmap = symkin.workspace_map(mech, x="velocity:P.x=-3.5:3.5", y="velocity:P.y=0.2:4.4", n=9)
     pts = np.concatenate([c.points for c in wmap.curves if c.kind == "DKP-input"])
     assert np.max(np.abs(np.hypot(*pts.T) - 2.0)) < 1e-9
-    assert np.ptp(np.arctan2(pts[:, 1], pts[:, 0])) > 0.9 * (np.pi - 2 * np.arcsin(0.1))
+    # the whole arc above y = 0.2: from angle asin(0.1) to π − asin(0.1)
+    assert np.ptp(np.arctan2(pts[:, 1], pts[:, 0])) > 0.99 * (np.pi - 2 * np.arcsin(0.1))
+    monkeypatch.setattr(quadtree, "DEPTH", 0)
+    flat = symkin.workspace_map(mech, x="velocity:P.x=-3.5:3.5", y="velocity:P.y=0.2:4.4", n=9)
+    assert not [c for c in flat.curves if c.kind == "DKP-input"]
