@@ -58,7 +58,13 @@ Algorithm
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
    :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
    the constraints lose rank; the core decides whether it is IM (it is then reported).
-5. **Points** — where a curve ends on the mode boundary or near IM, the end
+5. **Dips, quadtree, double zeros** — a grid point whose ``|T|`` is a near-zero minimum along
+   a grid line (:func:`symkin.workspace.quadtree.dips`) starts an adaptive subdivision of the
+   cells around it (:func:`symkin.workspace.quadtree.subdivide`, to :data:`~symkin.workspace.quadtree.DEPTH`):
+   its finest sign changes are located as in step 1 (two crossings in one cell, a small
+   closed curve), its finest minima by :func:`locate_double_zero` (``T = 0`` with
+   ``∂T/∂n = 0``); a double zero the core confirms is traced by :func:`trace_double_zero`.
+6. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
    when it has two or more types, else its type).
@@ -89,7 +95,7 @@ from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
-           "locate_crossing", "locate_fold", "trace_locus", "KINDS"]
+           "locate_crossing", "locate_fold", "locate_double_zero", "trace_locus", "trace_double_zero", "KINDS"]
 
 #: curve kinds and the indicator output that defines each
 KINDS = {"DKP-input": "dkp_input", "DKP-output": "dkp_output"}
@@ -234,7 +240,9 @@ class RefineStats:
 
     ``located`` crossings and folds located on the grid, ``seeded`` interior curves started
     from meeting points on boundary curves, ``duplicates`` brackets or seeds that lay on a
-    curve already traced; ``*_evaluations`` count residual-and-Jacobian evaluations.
+    curve already traced; ``dips`` grid dips subdivided, ``subdivided`` points the quadtree
+    solved, ``double_zeros`` double zeros located; ``*_evaluations`` count
+    residual-and-Jacobian evaluations.
     """
 
     crossings: int = 0

@@ -147,13 +147,14 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
 
 
 def run_tiles(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, tiles: list, keep_configurations: bool = False,
-              offset: tuple[int, int] = (0, 0)) -> list[TileResult]:
+              offset: tuple[int, int] = (0, 0), progress=None) -> list[TileResult]:
     """Several tiles of one mode at once: ``tiles`` ``[(j0, j1, i0, i1, seeds, previous), …]`` (indices of ``xs``, ``ys``).
 
     Round ``k`` continues the ``k``-th seed of every tile that still needs it in one
     :func:`symkin.workspace.grid.continue_modes` call (the tiles' waves batched together;
     each tile's result is the one :func:`run_tile` gives it alone, see there).  ``offset`` is
-    added to the indices of the results (global grid indices).
+    added to the indices of the results (global grid indices); ``progress(k)`` is told the
+    points tried per wave.
     """
     system = system_of(spec)
     tol = spec.tolerances
@@ -196,7 +197,7 @@ def run_tiles(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, tiles: list, keep_c
         if not todo:
             continue
         grids = continue_modes(system, xs, ys, regions, tol, keep_configurations=keep_configurations,
-                               blocked=blocked, keep=ring)
+                               blocked=blocked, keep=ring, progress=progress)
         for t, g in zip(todo, grids):
             j0, i0 = tiles[t][0], tiles[t][2]
             out, q_all, branches, kept = state[t]
@@ -296,20 +297,30 @@ def tiled_mode(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray
     used: dict = {k: set() for k in tiles}
     pending = [k for k in tiles if seeds[k]]
     first = True
+    total, told = len(xs) * len(ys), [0]
+
+    def tell(k: int):  # progress in grid points, never past the grid's size
+        k = min(int(k), total - told[0])
+        if progress and k > 0:
+            told[0] += k
+            progress(k)
+
     while pending:
         if client is None:  # here: every pending tile in one batched continuation (the same per-tile results)
             done = run_tiles(spec, xs, ys, [(by[tj], by[tj + 1], bx[ti], bx[ti + 1], seeds[(tj, ti)],
-                                             results.get((tj, ti))) for tj, ti in pending], keep_configurations)
+                                             results.get((tj, ti))) for tj, ti in pending], keep_configurations,
+                             progress=tell if first else None)
         else:
             calls = [(spec, xs[bx[ti]:bx[ti + 1]], ys[by[tj]:by[tj + 1]], by[tj], bx[ti], seeds[(tj, ti)],
                       keep_configurations, results.get((tj, ti))) for tj, ti in pending]
             done = _map_tasks(client, run_tile, calls)
         for r in done:
             results[of_start[(r.j0, r.i0)]] = r
-            if progress and first:
-                progress(r.assembled.size)
+            if first and client is not None:
+                tell(r.assembled.size)
         first = False
         pending = _halo_seeds(results, seeds, used, bx, by)
+    tell(total)  # the rest: points no wave reached
     return _merge((results[k] for k in tiles if k in results), (len(ys), len(xs)), system.nf,
                   keep_configurations, seed_q)
 
