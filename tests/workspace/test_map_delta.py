@@ -72,8 +72,10 @@ def test_delta_assembles_where_every_leg_reaches(delta_map):
     reach = np.array([[np.all(np.isfinite(DELTA.angles([x, y, Z], KNEE))) for x, y in zip(rx, ry)]
                       for rx, ry in zip(X, Y)])
     assert 0.3 < reach.mean() < 0.95
-    # the leg's reach margin |cos(θ + α)| < 1 decides; ignore grid points within rounding of a leg's limit
-    assert np.array_equal(m.assembled, reach)
+    # the legs' reach margin decides; grid points within rounding of a leg's limit are not judged
+    clear = np.array([[abs(DELTA.reach_margin([x, y, Z])) > 1e-9 for x, y in zip(rx, ry)] for rx, ry in zip(X, Y)])
+    assert clear.mean() > 0.9
+    assert np.array_equal(m.assembled[clear], reach[clear])
 
 
 @pytest.mark.slow

@@ -500,6 +500,17 @@ class Delta:
             out.append(np.nan if abs(c) > 1 else -np.arctan2(qz, qu) + sign * np.arccos(c))
         return np.array(out)
 
+    def reach_margin(self, p) -> float:
+        """``min_i (1 − |K_i/ρ_i|)`` (see :meth:`angles`): positive where every leg reaches ``p``."""
+        u, _ = self.frames()
+        p = np.asarray(p, float)
+        out = []
+        for i in range(3):
+            q = p - (self.radius - self.platform) * u[i]
+            k = (q @ q + self.arm ** 2 - self.bar ** 2) / (2 * self.arm)
+            out.append(1.0 - abs(k / np.hypot(q @ u[i], q[2])))
+        return float(min(out))
+
     def elbows(self, theta) -> np.ndarray:
         u, _ = self.frames()
         ez = np.array([0.0, 0.0, 1.0])
