@@ -21,8 +21,9 @@ It measures, in one run:
    (1) at 201 × 201: located points, residual-and-Jacobian evaluations per located point and
    per traced curve point (``RefineStats``).
 3. Dask: the five-bar at ``--n-dask``² (≥ 10⁶) points, tiles of ``parallel.TILE``, in one
-   process (serial tiles) and on a ``LocalCluster`` of 2 worker processes (cluster start-up
-   timed apart); the grid arrays are compared.
+   process (one continuation, ``tile=0``; the default: the same tiles, batched together) and on
+   a ``LocalCluster`` of 2 worker processes (cluster start-up timed apart); the grid arrays of
+   the default run and the Dask run are compared.
 4. peak memory of a ``--n-memory``² five-bar map (``resource.getrusage`` max RSS of a fresh
    child process, and ``tracemalloc``'s peak of Python allocations in it).
 
@@ -213,7 +214,8 @@ def section_refine():
         curves, points, st = refine(s, grid)
         dt = time.perf_counter() - t0
         print(f"   {name}: {len(curves)} curves ({', '.join(sorted({c.kind for c in curves}))}), {len(points)} points, "
-              f"{st.located} located ({st.crossings} sign brackets, {st.folds} fold brackets, {st.duplicates} "
+              f"{st.located} located ({st.crossings} sign brackets, {st.folds} fold brackets, {st.dips} dips "
+              f"subdivided with {st.subdivided} quadtree points, {st.double_zeros} double zeros, {st.duplicates} "
               f"duplicates): {st.evaluations_per_located_point:.1f} evaluations per located point; tracing "
               f"{st.trace_evaluations} evaluations for {st.traced_points} curve points "
               f"({st.trace_evaluations / max(st.traced_points, 1):.1f} per point); {dt:.2f} s")
@@ -224,7 +226,7 @@ def section_dask(n):
     mech = get("five_bar")
     workspace_map(mech, n=5, refine=False, **FIVE)
     t0 = time.perf_counter()
-    workspace_map(mech, n=n, refine=False, **FIVE)
+    workspace_map(mech, n=n, refine=False, tile=0, **FIVE)
     t_one = time.perf_counter() - t0
     t0 = time.perf_counter()
     ser = workspace_map(mech, n=n, refine=False, tile=parallel.TILE, **FIVE)
@@ -244,8 +246,8 @@ def section_dask(n):
         client.close()
         cluster.close()
     same = all(np.array_equal(getattr(ser.modes[0], k), getattr(dsk.modes[0], k), equal_nan=True) for k in GRID_ARRAYS)
-    print(f"   one process, one continuation: {t_one:.1f} s ({n * n / t_one:,.0f} points/s)")
-    print(f"   one process, tiles:            {t_ser:.1f} s ({n * n / t_ser:,.0f} points/s)")
+    print(f"   one process, one continuation (tile=0): {t_one:.1f} s ({n * n / t_one:,.0f} points/s)")
+    print(f"   one process, tiles (the default):       {t_ser:.1f} s ({n * n / t_ser:,.0f} points/s)")
     print(f"   Dask, 2 local workers, tiles:  {t_dask:.1f} s ({n * n / t_dask:,.0f} points/s), "
           f"{t_ser / t_dask:.2f}x the serial tiles (cluster start {t_start:.1f} s, not included); "
           f"grid arrays identical to the serial tiles: {same}")

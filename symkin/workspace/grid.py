@@ -26,7 +26,7 @@ Guards (as ``trace`` guards its steps):
 
 Memory stays bounded: only two waves of configurations are held while continuing; the
 configurations at *bracket* points (a neighbour with another DKP sign pattern, or not
-assembled) are kept for refinement (:mod:`symkin.workspace.loci`), all of them only with
+assembled, or a near-zero minimum of a DKP test function: :func:`symkin.workspace.quadtree.dips`) are kept for refinement (:mod:`symkin.workspace.loci`), all of them only with
 ``keep_configurations=True``.
 
 Arrays of a mode are ``(ny, nx)``, indexed ``[j, i]`` ↔ ``(xs[i], ys[j])``.
@@ -40,9 +40,10 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.tolerances import Tolerances
+from symkin.workspace.quadtree import dips
 from symkin.workspace.system import NEWTON_TOL, MapSystem
 
-__all__ = ["Axis", "parse_axis", "make_axes", "ModeGrid", "continue_mode", "JUMP", "TYPE_BITS", "type_names"]
+__all__ = ["Axis", "parse_axis", "make_axes", "GRID_ARRAYS", "ModeArrays", "ModeGrid", "continue_mode", "continue_modes", "JUMP", "TYPE_BITS", "type_names"]
 
 #: a solution may lie at most this fraction of the predictor's step from the tangent predictor.
 #: Near a quadratic fold (the mode's workspace boundary, where q ~ sqrt(distance)) the tangent
@@ -107,18 +108,21 @@ def make_axes(x: str, y: str, n) -> tuple[tuple[str, float, float], tuple[str, f
 
 
 # ---------------------------------------------------------------------- result of one mode
+#: the grid arrays of a mode (:class:`ModeArrays` attributes; ``.npz`` entries ``mode<id>_<name>``)
+GRID_ARRAYS = ("assembled", "rejected", "im_indicator", "dkp_input", "dkp_output", "types")
+
+
 @dataclass(frozen=True, eq=False)
-class ModeGrid:
-    """One working mode continued over the grid (arrays ``(ny, nx)``; NaN where not assembled).
+class ModeArrays:
+    """A working mode's seed and grid arrays ``(ny, nx)`` (NaN where not assembled): the one definition
+    that :class:`ModeGrid` (the continuation's result) and :class:`symkin.workspace.maps.ModeMap`
+    (a mode of a map) share.
 
     Attributes
     ----------
     seed_q : (nf,) the seed configuration; ``assembled`` bool; ``rejected`` bool (converged
     solutions not accepted by the jump checks); ``im_indicator``, ``dkp_input``,
-    ``dkp_output`` (the core's values); ``types`` int8 bits (:data:`TYPE_BITS`);
-    ``branch_changes`` pairs of grid indices ``((j, i), (j2, i2))`` where the two routes give
-    different configurations; ``configurations`` ``{(j, i): q}`` at bracket points; ``q``
-    ``(ny, nx, nf)`` (NaN where not assembled) only with ``keep_configurations``.
+    ``dkp_output`` (the core's values); ``types`` int8 bits (:data:`TYPE_BITS`).
     """
 
     seed_q: np.ndarray = field(repr=False)
@@ -128,15 +132,36 @@ class ModeGrid:
     dkp_input: np.ndarray = field(repr=False)
     dkp_output: np.ndarray = field(repr=False)
     types: np.ndarray = field(repr=False)
-    branch_changes: tuple = ()
-    configurations: dict = field(default_factory=dict, repr=False)
-    q: np.ndarray | None = field(default=None, repr=False)
-    note: str = ""
 
     @property
     def fraction(self) -> float:
         """Assembled fraction of the grid points."""
         return float(np.count_nonzero(self.assembled)) / self.assembled.size
+
+    def type_mask(self, kind: str) -> np.ndarray:
+        """Grid points the core decides to be of type ``kind`` (``IM``, ``DKP-input``, ``DKP-output``)."""
+        return (self.types & TYPE_BITS[kind]) != 0
+
+    def arrays(self) -> dict:
+        """``{name: array}`` of :data:`GRID_ARRAYS` and ``seed_q``."""
+        return {"seed_q": self.seed_q, **{name: getattr(self, name) for name in GRID_ARRAYS}}
+
+
+@dataclass(frozen=True, eq=False)
+class ModeGrid(ModeArrays):
+    """One working mode continued over the grid: :class:`ModeArrays` and what continuation found.
+
+    Attributes
+    ----------
+    branch_changes : pairs of grid indices ``((j, i), (j2, i2))`` where the two routes give
+        different configurations; ``configurations`` ``{(j, i): q}`` at bracket points; ``q``
+        ``(ny, nx, nf)`` (NaN where not assembled) only with ``keep_configurations``.
+    """
+
+    branch_changes: tuple = ()
+    configurations: dict = field(default_factory=dict, repr=False)
+    q: np.ndarray | None = field(default=None, repr=False)
+    note: str = ""
 
     def config(self, j: int, i: int) -> np.ndarray | None:
         """The configuration at grid point ``[j, i]`` when it was kept (None otherwise)."""
@@ -147,51 +172,70 @@ class ModeGrid:
 
 
 # ---------------------------------------------------------------------- continuation
-def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray) -> np.ndarray:
-    """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units)."""
-    _, jac = system.evaluate("square", q, system.targets(a))
+def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray, jac: np.ndarray | None = None) -> np.ndarray:
+    """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units).
+
+    ``jac``: the square problem's Jacobian there when known (from the Newton solve that found
+    ``q``: :meth:`MapSystem.solve` ``return_jacobian``; it does not depend on ``a``).
+    """
+    if jac is None:
+        _, jac = system.evaluate("square", q, system.targets(a))
     nf = system.nf
-    scale = np.array([c.scale(system.mech.length_scale) for c in system.axes])
+    scale = system.axis_scale
     rhs = np.zeros((nf, 2))
     rhs[nf - 2, 0], rhs[nf - 1, 1] = 1.0 / scale[0], 1.0 / scale[1]
     try:
         return np.linalg.solve(jac, np.broadcast_to(rhs, (q.shape[0], nf, 2)))
-    except np.linalg.LinAlgError:
+    except np.linalg.LinAlgError:  # per point: a singular one does not change the others' (bit-for-bit)
         out = np.zeros((q.shape[0], nf, 2))
         for k in range(q.shape[0]):
-            out[k] = np.linalg.lstsq(jac[k], rhs, rcond=None)[0]
+            try:
+                out[k] = np.linalg.solve(jac[k], rhs)
+            except np.linalg.LinAlgError:
+                out[k] = np.linalg.lstsq(jac[k], rhs, rcond=None)[0]
         return out
 
 
-def _march(system: MapSystem, q: np.ndarray, a: np.ndarray, a_dst: np.ndarray, steps: int, jump: float):
+def _march(system: MapSystem, q: np.ndarray, a: np.ndarray, a_dst: np.ndarray, steps: int, jump: float,
+           jac: np.ndarray | None = None, tangent: np.ndarray | None = None):
     """Continue N configurations from axis values ``a`` to ``a_dst`` in ``steps`` equal sub-steps.
 
-    Returns ``(q, converged, accepted)``: ``converged`` Newton converged at ``a_dst`` (the
-    last sub-step was reached), ``accepted`` also within ``jump`` of every predictor.
+    ``jac`` (N, nf, nf) or ``tangent`` (N, nf, 2): the square problem's Jacobian or
+    ``∂q/∂a`` at the starting ``q`` when known (else evaluated); later sub-steps take it
+    from the Newton solve of the one before.  Returns ``(q, converged, accepted, jac)``:
+    ``converged`` Newton converged at ``a_dst`` (the last sub-step was reached),
+    ``accepted`` also within ``jump`` of every predictor; ``jac`` the Jacobian at the
+    returned ``q`` where accepted.
     """
     q = np.array(q, dtype=float)
     n = q.shape[0]
-    ell = system.mech.length_scale
+    ell = system.ell
     conv = np.zeros(n, bool)
     acc = np.zeros(n, bool) if steps < 1 else np.ones(n, bool)
+    jac_q = np.full((n, system.nf, system.nf), np.nan) if jac is None else np.array(jac, float)
+    known = jac is not None
     live = np.arange(n)
     for s in range(1, steps + 1):
         if live.size == 0:
             break
         a0 = a[live] + (a_dst[live] - a[live]) * ((s - 1) / steps)
         a1 = a[live] + (a_dst[live] - a[live]) * (s / steps)
-        t = _tangents(system, q[live], a0)
+        if s == 1 and tangent is not None:
+            t = np.asarray(tangent, float)[live]
+        else:
+            t = _tangents(system, q[live], a0, jac_q[live] if known or s > 1 else None)
         dq = np.einsum("nij,nj->ni", t, a1 - a0)
         pred = q[live] + dq
-        sol, ok, _, _ = system.solve(pred, a1)
+        sol, ok, _, _, jac_sol = system.solve(pred, a1, return_jacobian=True)
         dist = np.linalg.norm(sol - pred, axis=1) / ell
         good = ok & (dist <= jump * np.linalg.norm(dq, axis=1) / ell + 1e3 * NEWTON_TOL)
         if s == steps:
             conv[live[ok]] = True
         acc[live[~good]] = False
         q[live[good]] = sol[good]
+        jac_q[live[good]] = jac_sol[good]
         live = live[good]
-    return q, conv, acc
+    return q, conv, acc, jac_q
 
 
 def _signs(res, k: np.ndarray) -> np.ndarray:
@@ -204,7 +248,7 @@ _NEIGHBOURS = ((0, 1), (0, -1), (1, 0), (-1, 0))
 
 def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray,
                   tolerances: Tolerances | float | None = None, keep_configurations: bool = False,
-                  jump: float = JUMP, progress=None) -> ModeGrid:
+                  jump: float = JUMP, progress=None, blocked: np.ndarray | None = None) -> ModeGrid:
     """Continue the mode of ``seed_q`` over the grid ``xs × ys`` (internal units) and evaluate the indicators.
 
     Parameters
@@ -217,50 +261,59 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
     keep_configurations : keep every configuration (``ModeGrid.q``, ``(ny, nx, nf)``).
     jump : the predictor-distance ratio (:data:`JUMP`).
     progress : optional callable ``progress(k)`` told the number of points done per wave.
+    blocked : (ny, nx) bool, optional
+        Grid points not to continue over (already solved from another seed): they are neither
+        solved nor passed through, and come out not assembled.
+    """
+    region = (0, len(ys), 0, len(xs), seed_q)
+    return continue_modes(system, xs, ys, [region], tolerances, keep_configurations, jump, progress, blocked)[0]
+
+
+def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: list,
+                   tolerances: Tolerances | float | None = None, keep_configurations: bool = False,
+                   jump: float = JUMP, progress=None, blocked: np.ndarray | None = None,
+                   keep: np.ndarray | None = None) -> list[ModeGrid]:
+    """Continue a seed in each of several disjoint grid regions at once: one wave of every region per batch.
+
+    ``regions`` ``[(j0, j1, i0, i1, seed_q), …]`` are index ranges of the grid ``xs × ys``
+    (the tiles of :mod:`symkin.workspace.parallel`); no step, neighbour check or bracket test
+    crosses a region's edge, and every computation is per point (batched Newton, stacked
+    LAPACK solves, the core's batch), so each region's result is the one
+    :func:`continue_mode` gives on its own sub-grid ``xs[i0:i1] × ys[j0:j1]``: only the
+    batches are bigger (fewer waves, the per-wave cost shared).  ``keep`` (``(ny, nx)`` bool)
+    marks points whose configurations are kept as well as the brackets'.  Returns one
+    :class:`ModeGrid` per region, on its sub-grid (local indices).
     """
     tol = Tolerances.of(tolerances)
     ev = system.evaluators
-    ell = system.mech.length_scale
+    ell = system.ell
     nx, ny, nf = len(xs), len(ys), system.nf
     shape = (ny, nx)
-    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected
+    region = np.full(shape, -1, np.int32)
+    for r, (j0, j1, i0, i1, _) in enumerate(regions):
+        region[j0:j1, i0:i1] = r
+    status = np.zeros(shape, np.int8)  # 0 untried, 1 solved, 2 failed, 3 rejected, 4 blocked (or in no region)
+    status[region < 0] = 4
+    if blocked is not None:
+        status[np.asarray(blocked, bool)] = 4
     im = np.full(shape, np.nan)
-    d_in = np.full(shape, np.nan)
-    d_out = np.full(shape, np.nan)
     types = np.zeros(shape, np.int8)
+    dkp = np.full((2,) + shape, np.nan)  # the DKP-input and DKP-output values, stacked
+    d_in, d_out = dkp[0], dkp[1]
     signs = np.zeros(shape + (2,), np.int8)
     full_q = np.full(shape + (nf,), np.nan) if keep_configurations else None
     kept: dict = {}
-    branches: list = []
-    axis_scale = np.array([c.scale(ell) for c in system.axes])
+    branches: list = [[] for _ in regions]
+    notes = [""] * len(regions)
+    axis_scale = system.axis_scale
 
     def at(j, i):
         return np.array([xs[i], ys[j]])
 
-    # -- the seed's grid point, reached by marching from the seed
-    seed_q = np.asarray(seed_q, float).ravel()
-    a_seed = system.axis_values(seed_q[None])[0]
-    cell = min(np.min(np.abs(np.diff(xs))) / axis_scale[0], np.min(np.abs(np.diff(ys))) / axis_scale[1])
-    # the grid points nearest the seed (its cell's corners first), batched: the first one reached starts
-    near_i = np.argsort(np.abs(xs - a_seed[0]), kind="stable")[:3]
-    near_j = np.argsort(np.abs(ys - a_seed[1]), kind="stable")[:3]
-    starts = sorted(((int(j), int(i)) for j in near_j for i in near_i),
-                    key=lambda p: float(np.linalg.norm((at(*p) - a_seed) / axis_scale)))
-    dst = np.array([at(*p) for p in starts])
-    dist = float(np.max(np.linalg.norm((dst - a_seed) / axis_scale, axis=1)))
-    steps = max(1, int(math.ceil(2 * dist / cell)))
-    ok = np.zeros(len(starts), bool)
-    for refine_steps in (1, 4, 16):  # finer sub-steps when the seed is near a singularity
-        q_all, _, ok = _march(system, np.repeat(seed_q[None], len(starts), 0), np.repeat(a_seed[None], len(starts), 0),
-                              dst, steps * refine_steps, jump)
-        if ok.any():
-            break
-    note = ""
-    if not ok.any():
-        note = "the mode does not reach the box from its seed"
-        return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, (), {}, full_q, note)
-    first = int(np.flatnonzero(ok)[0])
-    (j0, i0), q_start = starts[first], q_all[first: first + 1]
+    def points_at(idx: list) -> np.ndarray:
+        """Axis values (N, 2) of grid indices ``[(j, i), ...]``."""
+        ji = np.array(idx, np.intp).reshape(-1, 2)
+        return np.column_stack([xs[ji[:, 1]], ys[ji[:, 0]]])
 
     def record(idx: list, q: np.ndarray, res=None, sel=None):
         if res is None:
@@ -275,11 +328,46 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         status[jj, ii] = 1
         if full_q is not None:
             full_q[jj, ii] = q
+        if keep is not None:
+            for k in np.flatnonzero(keep[jj, ii]):
+                kept[(int(jj[k]), int(ii[k]))] = q[k].copy()
 
-    record([(j0, i0)], q_start)
-    wave: dict = {(j0, i0): q_start[0]}
-    if progress:
-        progress(1)
+    # -- each region's seed grid point, reached by marching from its seed (region by region, as alone)
+    wave: dict = {}
+    wave_jac: dict = {}  # the square problem's Jacobian at each wave point (from the Newton solve there)
+    seeds = []
+    for r, (j0, j1, i0, i1, seed_q) in enumerate(regions):
+        seed_q = np.asarray(seed_q, float).ravel()
+        seeds.append(seed_q)
+        xs_r, ys_r = xs[i0:i1], ys[j0:j1]
+        a_seed = system.axis_values(seed_q[None])[0]
+        cell = min(np.min(np.abs(np.diff(xs_r))) / axis_scale[0], np.min(np.abs(np.diff(ys_r))) / axis_scale[1])
+        # the grid points nearest the seed (its cell's corners first), batched: the first one reached starts
+        near_i = i0 + np.argsort(np.abs(xs_r - a_seed[0]), kind="stable")[:3]
+        near_j = j0 + np.argsort(np.abs(ys_r - a_seed[1]), kind="stable")[:3]
+        starts = sorted(((int(j), int(i)) for j in near_j for i in near_i if status[j, i] != 4),
+                        key=lambda p: float(np.linalg.norm((at(*p) - a_seed) / axis_scale)))
+        if not starts:
+            notes[r] = "the grid points next to the seed are blocked"
+            continue
+        dst = np.array([at(*p) for p in starts])
+        dist = float(np.max(np.linalg.norm((dst - a_seed) / axis_scale, axis=1)))
+        steps = max(1, int(math.ceil(2 * dist / cell)))
+        ok = np.zeros(len(starts), bool)
+        for refine_steps in (1, 4, 16):  # finer sub-steps when the seed is near a singularity
+            q_all, _, ok, jac_all = _march(system, np.repeat(seed_q[None], len(starts), 0),
+                                           np.repeat(a_seed[None], len(starts), 0), dst, steps * refine_steps, jump)
+            if ok.any():
+                break
+        if not ok.any():
+            notes[r] = "the mode does not reach the box from its seed"
+            continue
+        first = int(np.flatnonzero(ok)[0])
+        record([starts[first]], q_all[first: first + 1])
+        wave[starts[first]] = q_all[first]
+        wave_jac[starts[first]] = jac_all[first]
+        if progress:
+            progress(1)
 
     def keep_brackets(points: dict):
         """Keep the configurations of ``points`` with a neighbour not assembled or of another DKP sign pattern."""
@@ -292,36 +380,51 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
             jn, in_ = j + dj, i + di
             inside = (jn >= 0) & (jn < ny) & (in_ >= 0) & (in_ < nx)
             jn, in_ = np.clip(jn, 0, ny - 1), np.clip(in_, 0, nx - 1)
+            inside &= region[jn, in_] == region[j, i]
             st = status[jn, in_]
             other = (st == 1) & np.any(signs[jn, in_] != signs[j, i], axis=1)
             bracket |= inside & ((st == 2) | (st == 3) | other)
+        # near-zero minima of |T|: the quadtree starts there (double zeros, curves narrower than a cell)
+        bracket |= dips(dkp, status == 1, j, i, region=region)
         for k in np.flatnonzero(bracket):
             p = (int(j[k]), int(i[k]))
             kept[p] = points[p]
 
     while wave:
-        # candidates: untried or failed neighbours of the wave, each with its solved wave neighbours
+        # candidates: untried or failed neighbours of the wave in its region, each with its solved wave neighbours
         sources: dict = {}
         for (j, i) in wave:
+            r = region[j, i]
             for dj, di in _NEIGHBOURS:
                 p = (j + dj, i + di)
-                if 0 <= p[0] < ny and 0 <= p[1] < nx and status[p] in (0, 2):
+                if 0 <= p[0] < ny and 0 <= p[1] < nx and status[p] in (0, 2) and region[p] == r:
                     sources.setdefault(p, []).append((j, i))
+        busy = {int(region[p]) for p in sources}
+        done = {p: q for p, q in wave.items() if int(region[p]) not in busy}
+        if done:  # regions whose continuation ends here
+            keep_brackets(done)
+            wave = {p: q for p, q in wave.items() if int(region[p]) in busy}
         if not sources:
-            keep_brackets(wave)
             break
         cand = list(sources)
         src = [sources[p][0] for p in cand]
+        # ∂q/∂a once per wave point (a source of several candidates, and of the branch checks)
+        w_idx = {p: k for k, p in enumerate(wave)}
+        w_list = list(wave)
+        w_tan = _tangents(system, np.array([wave[p] for p in w_list]), points_at(w_list),
+                          np.array([wave_jac[p] for p in w_list]))
+        s_idx = np.array([w_idx[p] for p in src])
         q_src = np.array([wave[s] for s in src])
-        a_src = np.array([at(*s) for s in src])
-        a_dst = np.array([at(*p) for p in cand])
-        q_new, conv, acc = _march(system, q_src, a_src, a_dst, 1, jump)
+        jac_src = np.array([wave_jac[s] for s in src])
+        a_src, a_dst = points_at(src), points_at(cand)
+        q_new, conv, acc, jac_new = _march(system, q_src, a_src, a_dst, 1, jump, tangent=w_tan[s_idx])
         for k_sub in _SUBSTEPS:
             redo = np.flatnonzero(~acc)
             if redo.size == 0:
                 break
-            q2, c2, a2 = _march(system, q_src[redo], a_src[redo], a_dst[redo], k_sub, jump)
-            q_new[redo], acc[redo] = q2, a2
+            q2, c2, a2, j2 = _march(system, q_src[redo], a_src[redo], a_dst[redo], k_sub, jump,
+                                    jac=jac_src[redo], tangent=w_tan[s_idx[redo]])
+            q_new[redo], acc[redo], jac_new[redo] = q2, a2, j2
             conv[redo] |= c2
         for k in np.flatnonzero(~acc):
             status[cand[k]] = 3 if conv[k] else 2
@@ -331,17 +434,20 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
         if check:
             kk = np.array([c[0] for c in check])
             q2_src = np.array([wave[c[1]] for c in check])
-            a2_src = np.array([at(*c[1]) for c in check])
-            t = _tangents(system, q2_src, a2_src)
+            a2_src = points_at([c[1] for c in check])
+            t = w_tan[[w_idx[c[1]] for c in check]]
             dq = np.einsum("nij,nj->ni", t, a_dst[kk] - a2_src)
             far = np.linalg.norm(q_new[kk] - (q2_src + dq), axis=1) > jump * np.linalg.norm(dq, axis=1) + \
                 1e3 * NEWTON_TOL * ell
             if np.any(far):
                 sel = np.flatnonzero(far)
-                q3, _, a3 = _march(system, q2_src[sel], a2_src[sel], a_dst[kk[sel]], 4, jump)
+                c_idx = np.array([w_idx[check[m][1]] for m in sel])
+                q3, _, a3, _ = _march(system, q2_src[sel], a2_src[sel], a_dst[kk[sel]], 4, jump,
+                                      jac=np.array([wave_jac[w_list[m]] for m in c_idx]), tangent=w_tan[c_idx])
                 differ = a3 & (np.linalg.norm(q3 - q_new[kk[sel]], axis=1) > tol.same_configuration * ell)
                 for m in np.flatnonzero(differ):
-                    branches.append((cand[kk[sel[m]]], check[sel[m]][1]))
+                    p = cand[kk[sel[m]]]
+                    branches[region[p]].append((p, check[sel[m]][1]))
         # indicators, and the sign-pattern check against the source neighbour
         if good.size:
             res = ev.batch(q_new[good], tol)
@@ -349,20 +455,28 @@ def continue_mode(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.
             src_sg = np.array([signs[src[k]] for k in good])
             changed = np.flatnonzero(np.any(sg != src_sg, axis=1) & np.all(sg != 0, axis=1)
                                      & np.all(src_sg != 0, axis=1))
-            keep = np.ones(good.size, bool)
+            keep_ok = np.ones(good.size, bool)
             if changed.size:
                 kg = good[changed]
-                q4, _, a4 = _march(system, q_src[kg], a_src[kg], a_dst[kg], 4, jump)
+                q4, _, a4, _ = _march(system, q_src[kg], a_src[kg], a_dst[kg], 4, jump, jac=jac_src[kg],
+                                      tangent=w_tan[s_idx[kg]])
                 same = a4 & (np.linalg.norm(q4 - q_new[kg], axis=1) <= tol.same_configuration * ell)
                 for m in np.flatnonzero(~same):
                     status[cand[kg[m]]] = 3
-                keep[changed[~same]] = False
-            good, sel = good[keep], np.flatnonzero(keep)
+                keep_ok[changed[~same]] = False
+            good, sel = good[keep_ok], np.flatnonzero(keep_ok)
             if good.size:
                 record([cand[k] for k in good], q_new[good], res, sel)
         keep_brackets(wave)
         wave = {cand[k]: q_new[k] for k in good}
+        wave_jac = {cand[k]: jac_new[k] for k in good}
         if progress:
             progress(len(cand))
-    return ModeGrid(seed_q, status == 1, status == 3, im, d_in, d_out, types, tuple(branches), kept, full_q,
-                    note)
+    out = []
+    for r, (j0, j1, i0, i1, _) in enumerate(regions):
+        sl = (slice(j0, j1), slice(i0, i1))
+        local = {(j - j0, i - i0): q for (j, i), q in kept.items() if region[j, i] == r}
+        br = tuple(((a[0] - j0, a[1] - i0), (b[0] - j0, b[1] - i0)) for a, b in branches[r])
+        out.append(ModeGrid(seeds[r], status[sl] == 1, status[sl] == 3, im[sl], d_in[sl], d_out[sl], types[sl], br,
+                            local, None if full_q is None else full_q[sl], notes[r]))
+    return out

@@ -58,7 +58,13 @@ Algorithm
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
    :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
    the constraints lose rank; the core decides whether it is IM (it is then reported).
-5. **Points** — where a curve ends on the mode boundary or near IM, the end
+5. **Dips, quadtree, double zeros** — a grid point whose ``|T|`` is a near-zero minimum along
+   a grid line (:func:`symkin.workspace.quadtree.dips`) starts an adaptive subdivision of the
+   cells around it (:func:`symkin.workspace.quadtree.subdivide`, to :data:`~symkin.workspace.quadtree.DEPTH`):
+   its finest sign changes are located as in step 1 (two crossings in one cell, a small
+   closed curve), its finest minima by :func:`locate_double_zero` (``T = 0`` with
+   ``∂T/∂n = 0``); a double zero the core confirms is traced by :func:`trace_double_zero`.
+6. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
    when it has two or more types, else its type).
@@ -86,9 +92,10 @@ from symkin.numeric.sx_linalg import givens_qr
 from symkin.paths.continuation import CurvePoint, Settings, continue_curve, newton, tangent
 from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
 from symkin.tolerances import DEFAULT, Tolerances
+from symkin.workspace import quadtree
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
-           "locate_crossing", "locate_fold", "trace_locus", "KINDS"]
+           "locate_crossing", "locate_fold", "locate_double_zero", "trace_locus", "trace_double_zero", "KINDS"]
 
 #: curve kinds and the indicator output that defines each
 KINDS = {"DKP-input": "dkp_input", "DKP-output": "dkp_output"}
@@ -233,7 +240,9 @@ class RefineStats:
 
     ``located`` crossings and folds located on the grid, ``seeded`` interior curves started
     from meeting points on boundary curves, ``duplicates`` brackets or seeds that lay on a
-    curve already traced; ``*_evaluations`` count residual-and-Jacobian evaluations.
+    curve already traced; ``dips`` grid dips subdivided, ``subdivided`` points the quadtree
+    solved, ``double_zeros`` double zeros located; ``*_evaluations`` count
+    residual-and-Jacobian evaluations.
     """
 
     crossings: int = 0
@@ -246,6 +255,9 @@ class RefineStats:
     locate_evaluations: int = 0
     trace_evaluations: int = 0
     traced_points: int = 0
+    dips: int = 0
+    subdivided: int = 0
+    double_zeros: int = 0
 
     @property
     def evaluations_per_located_point(self) -> float:
@@ -303,6 +315,54 @@ class _Problems:
         for k, t in tests.items():
             e = ca.vertcat(g, ax - (a0 + s * d), t)
             self._extended[k] = ca.Function(f"extended_{KINDS[k]}", [z, a0, d], [e, ca.jacobian(e, z)])
+
+        self._slopes: dict = {}
+
+    def _slope_functions(self, kind: str):
+        """``∂T/∂n`` on the solution surface, ``n`` a direction of the dimensionless axes (built on first use).
+
+        ``G(y; n) = ∇_y T · w``, ``w`` the surface direction with ``∂A/∂y · w = n`` (the square
+        problem's Jacobian solved for ``(0, n)``); the curve Function ``(y, n) ↦ ((Φ/ℓ, holds, G),
+        ∂/∂y)`` and the extended one ``(z = (y, s), a0, d, n) ↦ ((Φ/ℓ, holds, A − (a0 + s·d), G), ∂/∂z)``.
+        Second derivatives of ``T`` come from CasADi's AD of the indicator kernel (MX graph).
+        """
+        if kind in self._slopes:
+            return self._slopes[kind]
+        nf, nc = self.system.nf, self.n_constraints
+        z = ca.MX.sym("z", nf + 1)
+        y, s = z[:nf], z[nf]
+        n, a0, d = ca.MX.sym("n", 2), ca.MX.sym("a0", 2), ca.MX.sym("d", 2)
+        r, jr = self._curve[kind](y)
+        g, grad_t = r[:nc], jr[nc, :]
+        jsq = self._square(y, ca.MX.zeros(2))[1]
+        rhs = ca.vertcat(ca.MX.zeros(nc, 1), n)
+        w = ca.solve(jsq, rhs) if nc + 2 == nf else ca.solve(ca.mtimes(jsq.T, jsq), ca.mtimes(jsq.T, rhs))
+        slope = ca.mtimes(grad_t, w)
+        h = ca.vertcat(g, slope)
+        ax = self._axes(y)[0]
+        e = ca.vertcat(g, ax - (a0 + s * d), slope)
+        yy = ca.MX.sym("y", nf)
+        h_y = ca.substitute(h, z, ca.vertcat(yy, 0))
+        curve = ca.Function(f"slope_{KINDS[kind]}", [yy, n], [h_y, ca.jacobian(h_y, yy)])
+        ext = ca.Function(f"slope_extended_{KINDS[kind]}", [z, a0, d, n], [e, ca.jacobian(e, z)])
+        value = ca.Function(f"slope_value_{KINDS[kind]}", [yy, n], [ca.substitute(slope, z, ca.vertcat(yy, 0))])
+        self._slopes[kind] = (curve, ext, value)
+        return self._slopes[kind]
+
+    def slope(self, kind: str, y, n) -> float:
+        """``∂T/∂n`` at ``y`` along the dimensionless axis direction ``n`` (see :meth:`_slope_functions`)."""
+        self.counter.n += 1
+        return float(self._slope_functions(kind)[2](y, ca.DM(np.asarray(n, float))))
+
+    def slope_curve(self, kind: str, n) -> "_Curve":
+        """The curve ``(Φ/ℓ, holds, ∂T/∂n) = 0``: through a double zero of ``T`` it follows that locus."""
+        return _Curve(self._slope_functions(kind)[0], self.counter, (ca.DM(np.asarray(n, float)),),
+                      degenerate=self.degenerate)
+
+    def slope_extended(self, kind: str, a0, d) -> "_Fn":
+        n = np.asarray(d, float) / np.linalg.norm(d)
+        return _Fn(self._slope_functions(kind)[1], self.counter, (ca.DM(a0), ca.DM(d), ca.DM(n)),
+                   degenerate=lambda z: self.degenerate(np.asarray(z, float)[:-1]))
 
     # numbers
     def axes(self, y) -> np.ndarray:
@@ -478,6 +538,49 @@ def locate_fold(pb: _Problems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray
             return kind, y, s
     raise NotConvergedError("the mode's boundary here is not a zero of a DKP test function "
                             "(the square position problem stays regular where they vanish)", y=y_lo)
+
+
+def locate_double_zero(pb: _Problems, kind: str, a0: np.ndarray, y0: np.ndarray, d: np.ndarray,
+                       tol: Tolerances = DEFAULT) -> tuple[np.ndarray, float]:
+    """A double zero of ``T`` (``kind``) on the line ``a0 + s·d``, ``|s| ≤ 1``, through a dip at ``a0``.
+
+    Where ``T`` touches zero without changing sign (``T ≈ c·d²``) it has no root to bracket;
+    its derivative along the line, ``∂T/∂n`` (:meth:`_Problems.slope`, ``n = d/|d|``), changes
+    sign there instead (a simple zero).  Brent's method on ``∂T/∂n`` of the square problem
+    solved along the line (from ``y0``, the dip's configuration), then Gauss–Newton on the
+    extended system ``(Φ/ℓ, holds, A − (a0 + s·d), ∂T/∂n) = 0`` in ``(y, s)`` polishes it.
+    The point is a double zero when ``|T|`` there is at most :attr:`Tolerances.event_threshold`
+    (a located minimum of an unsigned DKP test, as a path event); the caller asks the core.
+    Returns ``(y, s)``; raises NotConvergedError (no sign change of the slope on the line, a
+    minimum that is not zero, or no polished point).
+    """
+    d = np.asarray(d, float)
+    n = d / np.linalg.norm(d)
+    sign = math.copysign(1.0, pb.tests(y0)[kind])
+    cache = {0.0: np.asarray(y0, float)}
+
+    def y_of(s):
+        near = min(cache, key=lambda k: abs(k - s))
+        y = cache[near]
+        for u in np.linspace(near, s, 3)[1:]:
+            y = pb.solve_square(a0 + u * d, y)
+        cache[s] = y
+        return y
+
+    def g(s):
+        return sign * pb.slope(kind, y_of(s), n)
+
+    ends = [(-1.0, 0.0), (0.0, 1.0)]
+    vals = {s: g(s) for s in (-1.0, 0.0, 1.0)}
+    bracket = next(((lo, hi) for lo, hi in ends if vals[lo] <= 0.0 <= vals[hi]), None)
+    if bracket is None:
+        raise NotConvergedError("no minimum of |T| on the line through the dip")
+    s = brentq(g, *bracket, xtol=1e-9)
+    y = cache[min(cache, key=lambda k: abs(k - s))]
+    z, _, _ = newton(pb.slope_extended(kind, a0, d), np.append(y, s), tol=_NEWTON_TOL, max_iterations=30)
+    if not abs(z[-1]) <= 1.0 + 1e-9 or abs(pb.tests(z[:-1])[kind]) > tol.event_threshold:
+        raise NotConvergedError("the minimum of |T| on the line is not a zero", y=z[:-1])
+    return z[:-1], float(z[-1])
 
 
 def _im_candidates(grid: GridData) -> list[tuple[int, int]]:
@@ -769,6 +872,99 @@ def trace_locus(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray, setti
     return ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None], bwd.meetings + fwd.meetings
 
 
+def _perp(v: np.ndarray) -> np.ndarray:
+    return np.array([-v[1], v[0]]) / np.linalg.norm(v)
+
+
+def _axis_tangent(pb: _Problems, y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The curve's tangent ``t`` (in ``y``) as a direction of the dimensionless axes."""
+    v = np.array(pb._axes(y)[1]) @ t
+    return v / np.linalg.norm(v)
+
+
+#: a double-zero curve is followed as ``∂T/∂n = 0`` with ``n`` frozen while it stays within this angle
+#: of the curve's normal (``∂T/∂n`` is a regular equation of the curve while ``n`` is not along it)
+_NORMAL_TURN = math.radians(30.0)
+
+
+def _trace_double_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: np.ndarray,
+                       settings: Settings, tol: Tolerances, boundary: tuple[str, float]) -> _Half:
+    """One direction of a double-zero curve (see :func:`trace_double_zero`)."""
+    kind_b, sign_b = boundary
+    out = [np.array(y0, float)]
+    start_t, y, t_prev = np.array(t0, float), np.array(y0, float), np.array(t0, float)
+    arclength = 0.0
+    end, end_y = "steps", None
+    try:
+        while True:
+            n = _perp(_axis_tangent(pb, y, t_prev))
+            problem = pb.slope_curve(kind, n)
+            prev, restart = None, False
+            for point in continue_curve(problem, y, t_prev, settings):
+                if prev is None:
+                    prev = point
+                    continue
+                arclength += float(np.linalg.norm(point.y - prev.y))
+                a = pb.axes(point.y)
+                t = pb.tests(point.y)
+                if kind != kind_b and math.copysign(1.0, t[kind_b]) != sign_b:
+                    end, end_y = "boundary", prev.y
+                    break
+                if np.any(a < box[:, 0]) or np.any(a > box[:, 1]):
+                    out.append(_onto_box(pb, problem, prev.y, point.y, box))
+                    end = "box"
+                    break
+                if t["im"] < tol.near_branch:
+                    end, end_y = "IM", point.y
+                    exact = locate_im(pb, point.y)
+                    if exact is not None:
+                        end_y = exact
+                    out.append(point.y)
+                    break
+                if not abs(t[kind]) <= tol.event_threshold:
+                    end, end_y = "left", prev.y  # the slope's zero set leaves the double zero (another branch)
+                    break
+                if arclength > 3 * settings.max_step and float(point.t @ start_t) > 0.5 and \
+                        _segment_distance(y0, prev.y, point.y) <= 0.25 * float(np.linalg.norm(point.y - prev.y)):
+                    end = "closed"
+                    break
+                out.append(point.y)
+                prev = point
+                if abs(float(_perp(_axis_tangent(pb, point.y, point.t)) @ n)) < math.cos(_NORMAL_TURN):
+                    y, t_prev, restart = point.y, point.t, True
+                    break
+            if not restart:
+                break
+    except NotConvergedError:
+        end = "stalled"
+    return _Half(out, end, end_y, [])
+
+
+def trace_double_zero(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray, settings: Settings,
+                      tol: Tolerances = DEFAULT, boundary: tuple[str, float] = ("DKP-output", 1.0)
+                      ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list]:
+    """Trace a curve of double zeros of ``T`` (``kind``) through ``y0`` both ways.
+
+    ``(Φ/ℓ, holds, T) = 0`` is singular along such a curve (``∇T = 0`` on the surface), so
+    the curve is continued as ``(Φ/ℓ, holds, ∂T/∂n) = 0`` (:meth:`_Problems.slope_curve`,
+    regular there), with ``n`` the curve's normal in the dimensionless axes, renewed when
+    the curve turns by more than 30° from it.  Each point must keep ``|T| ≤``
+    :attr:`Tolerances.event_threshold` (else the slope's zero set has left the double zero:
+    end ``"left"``); ends as :func:`trace_locus` (closed, box, boundary, IM, stalled).
+    Returns what :func:`trace_locus` returns.
+    """
+    problem = pb.slope_curve(kind, np.array([1.0, 0.0]))
+    t0 = tangent(problem, y0)
+    n0 = _perp(_axis_tangent(pb, y0, t0))
+    t0 = tangent(pb.slope_curve(kind, n0), y0, t0)
+    fwd = _trace_double_half(pb, kind, y0, t0, box, settings, tol, boundary)
+    if fwd.end == "closed":
+        return np.array(fwd.ys), True, ("closed",), [], []
+    bwd = _trace_double_half(pb, kind, y0, -t0, box, settings, tol, boundary)
+    ys = np.array(bwd.ys[:0:-1] + fwd.ys)
+    return ys, False, (bwd.end, fwd.end), [h.end_y for h in (bwd, fwd) if h.end_y is not None], []
+
+
 def _boundary(grid: GridData, signs: list) -> tuple[str, float]:
     """The test function whose zero set bounds the mode (no sign change on the grid) and its sign there.
 
@@ -884,9 +1080,9 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     def dim_axes(j, i):
         return grid.at(j, i) / scale
 
-    def take(kind, y):
+    def take(kind, y, tracer=None):
         before = pb.counter.n
-        ys, closed, ends, end_ys, meets = trace_locus(pb, kind, y, box_d, settings, tol, boundary)
+        ys, closed, ends, end_ys, meets = (tracer or trace_locus)(pb, kind, y, box_d, settings, tol, boundary)
         seeds.extend(meets)
         end_ys = end_ys + meets
         stats.trace_evaluations += pb.counter.n - before
@@ -903,9 +1099,13 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     stats.crossings, stats.folds = len(signs), len(folds)
     boundary = _boundary(grid, signs)
     seeds: list = []  # meeting points found along boundary curves: interior curves start there
-    def locate_and_take(kinds, pa, pb_, locate, errors) -> None:
-        """Locate one crossing or fold between grid points ``pa``, ``pb_`` and trace from it."""
-        if near_traced(kinds, 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
+    def locate_and_take(kinds, pa, pb_, locate, errors, mid=None) -> None:
+        """Locate one crossing or fold between grid points ``pa``, ``pb_`` and trace from it.
+
+        ``mid`` (dimensionless axis values) replaces the grid pre-check: a crossing of the
+        quadtree is checked only once located (it may lie within a cell of a traced curve).
+        """
+        if mid is None and near_traced(kinds, 0.5 * (dim_axes(*pa) + dim_axes(*pb_))):
             stats.duplicates += 1
             return
         before = pb.counter.n
@@ -958,6 +1158,61 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             continue
         stats.seeded += 1
         take(interior, y)
+    steps = np.array([abs(float(grid.xs[1] - grid.xs[0])) / scale[0], abs(float(grid.ys[1] - grid.ys[0])) / scale[1]])
+
+    def refine_dip(kind, j, i):
+        """Subdivide the cells around a dip of ``T`` (:mod:`symkin.workspace.quadtree`); locate and trace."""
+        a_c = dim_axes(j, i)
+        if any(k == kind and _polyline_distance(a_c, ax, c) <= cell for k, _, c, ax in traced):
+            stats.duplicates += 1
+            return
+        q = grid.config(j, i)
+        y_c = q / pb.scale if q is not None else resolve_from_seed(pb, grid, scale, (j, i))
+        if y_c is None:
+            stats.failed += 1
+            return
+        stats.dips += 1
+        before = pb.counter.n
+
+        def sample(a, y0):
+            y = pb.solve_square(a, y0)
+            return y, pb.tests(y)[kind]
+
+        sub = quadtree.subdivide(sample, a_c, y_c, pb.tests(y_c)[kind], steps, box_d[:, 0], box_d[:, 1])
+        stats.subdivided += sub.samples
+        stats.locate_evaluations += pb.counter.n - before
+        for aa, ya, ab, yb in sub.crossings:
+            locate_and_take((kind,), None, None,
+                            lambda: (kind, locate_crossing(pb, kind, aa, ya, ab, yb)[0]),
+                            (NotConvergedError, ValueError), mid=0.5 * (aa + ab))
+        for a, y, h in sub.dips:
+            before = pb.counter.n
+            found = None
+            for d in (np.array([2 * h[0], 0.0]), np.array([0.0, 2 * h[1]])):
+                try:
+                    found = locate_double_zero(pb, kind, a, y, d, tol)[0]
+                    break
+                except (NotConvergedError, ValueError):
+                    continue
+            stats.locate_evaluations += pb.counter.n - before
+            if found is None:
+                continue
+            if on_traced(kind, found, 0.5 * settings.max_step):
+                stats.duplicates += 1
+                continue
+            res = sys_.evaluators.indicators_at(found * pb.scale, tol)
+            if not res["is_" + KINDS[kind]]:
+                continue
+            stats.located += 1
+            stats.double_zeros += 1
+            take(kind, found, trace_double_zero)
+
+    for kind, name in KINDS.items():
+        values = getattr(grid, name)
+        if values is None:
+            continue
+        for j, i in zip(*np.nonzero(quadtree.dip_mask(values, grid.assembled))):
+            refine_dip(kind, int(j), int(i))
     return curves, points, stats
 
 

@@ -38,7 +38,7 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.tolerances import Tolerances
-from symkin.workspace.grid import TYPE_BITS, Axis, ModeGrid, continue_mode, make_axes
+from symkin.workspace.grid import GRID_ARRAYS, Axis, ModeArrays, ModeGrid, continue_mode, make_axes
 from symkin.workspace.modes import model_modes
 from symkin.workspace.system import map_system
 
@@ -46,8 +46,6 @@ __all__ = ["MapCurve", "MapPoint", "ModeMap", "WorkspaceMap", "workspace_map", "
 
 #: kinds of curves and points, in the order of ``counts``
 KINDS = ("DKP-input", "DKP-output", "IM")
-#: the grid arrays of a mode (``ModeMap`` attributes, ``.npz`` entries ``mode<id>_<name>``)
-GRID_ARRAYS = ("assembled", "rejected", "im_indicator", "dkp_input", "dkp_output", "types")
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,35 +77,23 @@ class MapPoint:
 
 
 @dataclass(frozen=True, eq=False)
-class ModeMap:
-    """One mode of a map: id, seed label, its seed configuration and the grid arrays ``(ny, nx)``.
-
-    ``assembled`` / ``rejected`` (bool), ``im_indicator``, ``dkp_input``, ``dkp_output``
-    (NaN where not assembled), ``types`` (int8 bits of :data:`symkin.workspace.grid.TYPE_BITS`),
-    ``branch_changes`` (pairs of grid indices), ``q`` (configurations, when kept).
+class ModeMap(ModeArrays):
+    """One mode of a map: the grid arrays of :class:`~symkin.workspace.grid.ModeArrays` (seed
+    configuration, ``assembled`` / ``rejected``, indicators, ``types``), its ``id`` and ``seed``
+    label (keywords), ``branch_changes`` (pairs of grid indices), ``q`` (configurations, when kept).
     """
 
-    id: int
-    seed: str
-    seed_q: np.ndarray = field(repr=False)
-    assembled: np.ndarray = field(repr=False)
-    rejected: np.ndarray = field(repr=False)
-    im_indicator: np.ndarray = field(repr=False)
-    dkp_input: np.ndarray = field(repr=False)
-    dkp_output: np.ndarray = field(repr=False)
-    types: np.ndarray = field(repr=False)
+    id: int = field(kw_only=True)
+    seed: str = field(kw_only=True)
     branch_changes: tuple = ()
     q: np.ndarray | None = field(default=None, repr=False)
     note: str = ""
 
-    @property
-    def fraction(self) -> float:
-        """Assembled fraction of the grid points."""
-        return float(np.count_nonzero(self.assembled)) / self.assembled.size
-
-    def type_mask(self, kind: str) -> np.ndarray:
-        """Grid points the core decides to be of type ``kind`` (``IM``, ``DKP-input``, ``DKP-output``)."""
-        return (self.types & TYPE_BITS[kind]) != 0
+    @classmethod
+    def of(cls, grid: ModeGrid, id: int, seed: str, keep_configurations: bool = False) -> "ModeMap":
+        """The map's mode ``id`` from its continued grid."""
+        return cls(**grid.arrays(), id=id, seed=seed, branch_changes=grid.branch_changes,
+                   q=grid.q if keep_configurations else None, note=grid.note)
 
     def to_dict(self) -> dict:
         return {"id": int(self.id), "seed": self.seed, "assembled": self.fraction,
@@ -221,9 +207,8 @@ def load_map(path) -> WorkspaceMap:
     modes = []
     for m in head["modes"]:
         k = m["id"]
-        modes.append(ModeMap(k, m["seed"], files[f"mode{k}_seed_q"],
-                             *(files[f"mode{k}_{name}"] for name in GRID_ARRAYS),
-                             branch_changes=tuple((tuple(a), tuple(b)) for a, b in m["branch_changes"]),
+        modes.append(ModeMap(files[f"mode{k}_seed_q"], *(files[f"mode{k}_{name}"] for name in GRID_ARRAYS),
+                             id=k, seed=m["seed"], branch_changes=tuple((tuple(a), tuple(b)) for a, b in m["branch_changes"]),
                              q=files.get(f"mode{k}_q"), note=m.get("note", "")))
     curves = tuple(MapCurve(c["kind"], c["mode"], c["closed"], files[f"curve{k}_points"])
                    for k, c in enumerate(head["curves"]))
@@ -288,11 +273,17 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     client, workers :
         Dask (:mod:`symkin.workspace.parallel`, the ``dask`` extra): an existing
         ``distributed.Client``, or ``workers=N`` to start a local cluster of N processes for
-        this call.  The grid is then continued tile by tile on the workers and each mode is
-        refined on one; the result equals the serial tiled run (``tile`` alone).
+        this call.  The grid is continued tile by tile on the workers and each mode is
+        refined on one.
     tile : int, optional
-        Tile side in grid points (:data:`symkin.workspace.parallel.TILE` with Dask); given
-        without Dask, the same tiles run in this process.
+        Tile side in grid points, default :data:`symkin.workspace.parallel.TILE`.  **One
+        process and Dask give the same result**: both continue every mode over the same
+        tiles, seeded by the same coarse sweep (:func:`symkin.workspace.parallel.tiled_mode`),
+        so the grid arrays are identical and the curves equal (to 1e-9) whatever the
+        scheduler.  A map of at most ``tile`` points per axis is one tile: one continuation
+        over the whole grid from the seed.  ``tile=0`` (one process only) continues over the
+        whole grid whatever its size (the route of the continuation differs from the tiles',
+        so points next to a fold may differ from a Dask run).
     unit : ``"deg"`` or ``"rad"``
     tol : Tolerances or float
         The core's rank tolerance.
@@ -302,7 +293,13 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
         ``progress(k)`` told the number of grid points processed (e.g. a tqdm ``update``).
     """
     tolerances = Tolerances.of(tol)
-    if client is not None or workers or tile:  # ---- tiled / Dask path (symkin.workspace.parallel)
+    if tile is not None and (int(tile) != tile or int(tile) < 0 or int(tile) == 1):
+        raise SymkinError(f"tile={tile!r}: the tile side must be an integer >= 2 (0: no tiles, one process)")
+    untiled = tile is not None and int(tile) == 0
+    if untiled and (client is not None or workers):
+        raise SymkinError("tile=0 (one continuation over the whole grid) runs in one process only, "
+                          "not with client= or workers=")
+    if not untiled and _tiled is None:  # ---- tiled, here or on Dask (symkin.workspace.parallel)
         from symkin.workspace import parallel
 
         with parallel.dask_client(workers=workers, client=client) as dask:
@@ -310,7 +307,11 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
                                  unit=unit, tol=tolerances, keep_configurations=keep_configurations,
                                  progress=progress, _tiled=(parallel, dask, int(tile or parallel.TILE)))
     (lx, x_lo, x_hi), (ly, y_lo, y_hi), (nx, ny) = make_axes(x, y, n)
-    system = map_system(mech, lx, ly, hold=hold, unit=unit, tolerances=tolerances)
+    if _tiled is not None:  # the process's one copy of the problem, as every worker builds it from plain data
+        spec = _tiled[0].MapSpec.of(mech, lx, ly, hold, unit, tolerances)
+        system = _tiled[0].system_of(spec)
+    else:
+        system = map_system(mech, lx, ly, hold=hold, unit=unit, tolerances=tolerances)
     axes = (Axis(system.axes[0].label, x_lo, x_hi, nx), Axis(system.axes[1].label, y_lo, y_hi, ny))
     xs_user, ys_user = axes[0].values, axes[1].values
     xs = system.to_internal(np.column_stack([xs_user, np.zeros(nx)]))[:, 0]
@@ -321,7 +322,6 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
     grids: list[ModeGrid] = []
     if _tiled is not None:  # ---- tiled / Dask path: every worker builds the problem from plain data
         parallel, dask, tile_side = _tiled
-        spec = parallel.MapSpec.of(mech, lx, ly, hold, unit, tolerances)
     for label, q in seeds_q:
         if _tiled is not None:
             g = parallel.tiled_mode(spec, xs, ys, q, tile_side, dask, keep_configurations, progress)
@@ -334,9 +334,7 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
                          f"({mode_maps[dup].seed}): merged")
             continue
         grids.append(g)
-        mode_maps.append(ModeMap(len(mode_maps), label, g.seed_q, g.assembled, g.rejected, g.im_indicator,
-                                 g.dkp_input, g.dkp_output, g.types, g.branch_changes,
-                                 g.q if keep_configurations else None, g.note))
+        mode_maps.append(ModeMap.of(g, len(mode_maps), label, keep_configurations))
     curves: list[MapCurve] = []
     points: list[MapPoint] = []
     if refine:

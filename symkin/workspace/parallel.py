@@ -37,16 +37,16 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.tolerances import Tolerances
-from symkin.workspace.grid import ModeGrid, continue_mode
+from symkin.workspace.grid import ModeGrid, continue_mode, continue_modes
 from symkin.workspace.system import MapSystem, map_system
 
-__all__ = ["MapSpec", "TileResult", "DASK_EXTRA", "TILE", "tile_bounds", "coarse_seeds", "run_tile",
+__all__ = ["MapSpec", "TileResult", "DASK_EXTRA", "TILE", "tile_bounds", "coarse_seeds", "run_tile", "run_tiles",
            "tiled_mode", "on_system", "dask_client", "system_of"]
 
 #: the message part that names the optional extra
 DASK_EXTRA = 'the dask extra: pip install -e ".[dask]" (dask[distributed])'
 #: default tile side, in grid points
-TILE = 64
+TILE = 256
 
 
 # ---------------------------------------------------------------------- the map's problem as plain data
@@ -135,54 +135,88 @@ def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, se
     """Continue a mode over one tile (``xs``, ``ys``: the tile's axis values, internal units) from its seeds.
 
     The first seed is continued over the whole tile with :func:`continue_mode`; a further
-    seed only when the tile's grid point nearest it is not assembled yet, and it fills only
-    points still unassembled.  ``(j0, i0)`` is the tile's first grid index (for the global
-    indices of the results).  With ``previous`` (this tile's earlier result) the tile continues
-    from that state: seeds whose grid point it already assembled are skipped.
+    seed only when the tile's grid point nearest it is not assembled yet, and only over the
+    points still unassembled (the assembled ones are ``blocked``: not solved again).
+    ``(j0, i0)`` is the tile's first grid index (for the global indices of the results).
+    With ``previous`` (this tile's earlier result) the tile continues from that state:
+    seeds whose grid point it already assembled are skipped.  One tile of :func:`run_tiles`
+    (a Dask task).
+    """
+    return run_tiles(spec, xs, ys, [(0, len(ys), 0, len(xs), seeds, previous)], keep_configurations,
+                     offset=(j0, i0))[0]
+
+
+def run_tiles(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, tiles: list, keep_configurations: bool = False,
+              offset: tuple[int, int] = (0, 0), progress=None) -> list[TileResult]:
+    """Several tiles of one mode at once: ``tiles`` ``[(j0, j1, i0, i1, seeds, previous), …]`` (indices of ``xs``, ``ys``).
+
+    Round ``k`` continues the ``k``-th seed of every tile that still needs it in one
+    :func:`symkin.workspace.grid.continue_modes` call (the tiles' waves batched together;
+    each tile's result is the one :func:`run_tile` gives it alone, see there).  ``offset`` is
+    added to the indices of the results (global grid indices); ``progress(k)`` is told the
+    points tried per wave.
     """
     system = system_of(spec)
     tol = spec.tolerances
-    ny, nx = len(ys), len(xs)
-    shape = (ny, nx)
-    out = {"assembled": np.zeros(shape, bool), "rejected": np.zeros(shape, bool),
-           "im_indicator": np.full(shape, np.nan), "dkp_input": np.full(shape, np.nan),
-           "dkp_output": np.full(shape, np.nan), "types": np.zeros(shape, np.int8)}
-    q_all = np.full(shape + (system.nf,), np.nan)
-    branches: list = []
-    kept: dict = {}
-    if previous is not None:
-        for name in out:
-            out[name] = getattr(previous, name).copy()
-        branches, kept = list(previous.branch_changes), dict(previous.configurations)
-        if previous.q is not None:
-            q_all = previous.q.copy()
-    fresh = np.zeros(shape, bool)  # assembled by this call
-    scale = np.array([c.scale(system.mech.length_scale) for c in system.axes])
-    for seed in seeds:
-        a = system.axis_values(np.asarray(seed, float)[None])[0]
-        i_near = int(np.argmin(np.abs(xs - a[0]) / scale[0]))
-        j_near = int(np.argmin(np.abs(ys - a[1]) / scale[1]))
-        if out["assembled"][j_near, i_near]:
+    scale = system.axis_scale
+    oj, oi = offset
+    state = []
+    for j0, j1, i0, i1, seeds, previous in tiles:
+        shape = (j1 - j0, i1 - i0)
+        out = {"assembled": np.zeros(shape, bool), "rejected": np.zeros(shape, bool),
+               "im_indicator": np.full(shape, np.nan), "dkp_input": np.full(shape, np.nan),
+               "dkp_output": np.full(shape, np.nan), "types": np.zeros(shape, np.int8)}
+        q_all = np.full(shape + (system.nf,), np.nan) if keep_configurations else None
+        branches: list = []
+        kept: dict = {}
+        if previous is not None:
+            for name in out:
+                out[name] = getattr(previous, name).copy()
+            branches, kept = list(previous.branch_changes), dict(previous.configurations)
+            if previous.q is not None and q_all is not None:
+                q_all = previous.q.copy()
+        state.append((out, q_all, branches, kept))
+    ring = np.zeros((len(ys), len(xs)), bool)  # configurations kept on every tile's edge ring
+    for j0, j1, i0, i1, _, _ in tiles:
+        ring[[j0, j1 - 1], i0:i1] = ring[j0:j1, [i0, i1 - 1]] = True
+    for k in range(max((len(t[4]) for t in tiles), default=0)):
+        todo, regions = [], []
+        blocked = np.zeros(ring.shape, bool)
+        for t, (j0, j1, i0, i1, seeds, _) in enumerate(tiles):
+            if k >= len(seeds):
+                continue
+            out = state[t][0]
+            a = system.axis_values(np.asarray(seeds[k], float)[None])[0]
+            i_near = int(np.argmin(np.abs(xs[i0:i1] - a[0]) / scale[0]))
+            j_near = int(np.argmin(np.abs(ys[j0:j1] - a[1]) / scale[1]))
+            if out["assembled"][j_near, i_near]:
+                continue
+            todo.append(t)
+            regions.append((j0, j1, i0, i1, seeds[k]))
+            blocked[j0:j1, i0:i1] = out["assembled"]
+        if not todo:
             continue
-        g = continue_mode(system, xs, ys, seed, tol, keep_configurations=True)
-        new = g.assembled & ~out["assembled"]
-        for name in ("im_indicator", "dkp_input", "dkp_output", "types"):
-            out[name][new] = getattr(g, name)[new]
-        q_all[new] = g.q[new]
-        out["rejected"] |= g.rejected & ~out["assembled"] & ~new
-        out["assembled"] |= new
-        fresh |= new
-        out["rejected"] &= ~out["assembled"]
-        branches += [((a_[0] + j0, a_[1] + i0), (b_[0] + j0, b_[1] + i0)) for a_, b_ in g.branch_changes]
-        for (j, i) in g.configurations:
-            if new[j, i]:
-                kept[(j + j0, i + i0)] = q_all[j, i].copy()
-    ring = np.zeros(shape, bool)
-    ring[[0, -1], :] = ring[:, [0, -1]] = True
-    for j, i in zip(*np.nonzero(ring & fresh)):
-        kept[(int(j) + j0, int(i) + i0)] = q_all[j, i].copy()
-    return TileResult(j0, j0 + ny, i0, i0 + nx, **out, branch_changes=tuple(branches), configurations=kept,
-                      q=q_all if keep_configurations else None)
+        grids = continue_modes(system, xs, ys, regions, tol, keep_configurations=keep_configurations,
+                               blocked=blocked, keep=ring, progress=progress)
+        for t, g in zip(todo, grids):
+            j0, i0 = tiles[t][0], tiles[t][2]
+            out, q_all, branches, kept = state[t]
+            new = g.assembled & ~out["assembled"]
+            for name in ("im_indicator", "dkp_input", "dkp_output", "types"):
+                out[name][new] = getattr(g, name)[new]
+            if q_all is not None:
+                q_all[new] = g.q[new]
+            out["rejected"] |= g.rejected & ~out["assembled"] & ~new
+            out["assembled"] |= new
+            out["rejected"] &= ~out["assembled"]
+            branches += [((a_[0] + j0 + oj, a_[1] + i0 + oi), (b_[0] + j0 + oj, b_[1] + i0 + oi))
+                         for a_, b_ in g.branch_changes]
+            for (j, i), q in g.configurations.items():
+                if new[j, i]:
+                    kept[(j + j0 + oj, i + i0 + oi)] = q
+    return [TileResult(j0 + oj, j1 + oj, i0 + oi, i1 + oi, **out, branch_changes=tuple(branches),
+                       configurations=kept, q=q_all)
+            for (j0, j1, i0, i1, _, _), (out, q_all, branches, kept) in zip(tiles, state)]
 
 
 def coarse_seeds(system: MapSystem, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray, bx: list, by: list,
@@ -263,15 +297,30 @@ def tiled_mode(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray
     used: dict = {k: set() for k in tiles}
     pending = [k for k in tiles if seeds[k]]
     first = True
+    total, told = len(xs) * len(ys), [0]
+
+    def tell(k: int):  # progress in grid points, never past the grid's size
+        k = min(int(k), total - told[0])
+        if progress and k > 0:
+            told[0] += k
+            progress(k)
+
     while pending:
-        calls = [(spec, xs[bx[ti]:bx[ti + 1]], ys[by[tj]:by[tj + 1]], by[tj], bx[ti], seeds[(tj, ti)],
-                  keep_configurations, results.get((tj, ti))) for tj, ti in pending]
-        for r in _map_tasks(client, run_tile, calls):
+        if client is None:  # here: every pending tile in one batched continuation (the same per-tile results)
+            done = run_tiles(spec, xs, ys, [(by[tj], by[tj + 1], bx[ti], bx[ti + 1], seeds[(tj, ti)],
+                                             results.get((tj, ti))) for tj, ti in pending], keep_configurations,
+                             progress=tell if first else None)
+        else:
+            calls = [(spec, xs[bx[ti]:bx[ti + 1]], ys[by[tj]:by[tj + 1]], by[tj], bx[ti], seeds[(tj, ti)],
+                      keep_configurations, results.get((tj, ti))) for tj, ti in pending]
+            done = _map_tasks(client, run_tile, calls)
+        for r in done:
             results[of_start[(r.j0, r.i0)]] = r
-            if progress and first:
-                progress(r.assembled.size)
+            if first and client is not None:
+                tell(r.assembled.size)
         first = False
         pending = _halo_seeds(results, seeds, used, bx, by)
+    tell(total)  # the rest: points no wave reached
     return _merge((results[k] for k in tiles if k in results), (len(ys), len(xs)), system.nf,
                   keep_configurations, seed_q)
 

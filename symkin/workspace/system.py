@@ -271,12 +271,19 @@ class MapSystem:
     evaluators: Evaluators = field(init=False, repr=False)
     rows: tuple[int, ...] = field(init=False)
     functions: dict = field(init=False, repr=False)
+    #: the model's length scale (``mech.length_scale``, computed once)
+    ell: float = field(init=False, repr=False)
+    #: internal units per dimensionless unit of each axis (``ℓ`` for a length, 1 for an angle)
+    axis_scale: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
         self.evaluators = evaluators_for(self.mech)
         ev = self.evaluators
         m = ev.model
         scale = self.mech.length_scale
+        self.ell = float(scale)
+        self.axis_scale = np.array([c.scale(scale) for c in self.axes], float)
+        self._shapes: dict = {}
         f, nf = ev.mobility, ev.nf
         q = ca.SX.sym("q", nf)
         x = ca.substitute(m.x, m.q, q)
@@ -390,12 +397,18 @@ class MapSystem:
         buffer interface (no Python loop per point, no conversion to ``DM``).
         """
         f = self.functions[name]
+        shapes = self._shapes.get(name)
+        if shapes is None:  # the Function's sizes, asked of CasADi once
+            shapes = self._shapes[name] = ([f.numel_in(k) for k in range(f.n_in())],
+                                           [f.size_out(i) for i in range(f.n_out())])
+        numel_in, size_out = shapes
         n = max(np.shape(a)[0] if np.ndim(a) == 2 else 1 for a in args)
         ins = []
         for k, a in enumerate(args):
-            a = np.asarray(a, dtype=float)
-            ins.append(np.ascontiguousarray(np.broadcast_to(a.reshape(-1, f.numel_in(k)), (n, f.numel_in(k)))))
-        outs = [np.empty((n,) + f.size_out(i)[::-1]) for i in range(f.n_out())]
+            a = np.asarray(a, dtype=float).reshape(-1, numel_in[k])
+            ins.append(a if a.shape[0] == n and a.flags.c_contiguous else
+                       np.ascontiguousarray(np.broadcast_to(a, (n, numel_in[k]))))
+        outs = [np.empty((n,) + so[::-1]) for so in size_out]
         size = min(_CHUNK, 1 << max(0, (n - 1).bit_length()))
         hit = self._maps.get((name, size))
         if hit is None:
@@ -422,8 +435,7 @@ class MapSystem:
                 for o, po in zip(outs, part_out):
                     o[start:stop] = po[: stop - start]
         result = []
-        for i, o in enumerate(outs):
-            r, c = f.size_out(i)
+        for o, (r, c) in zip(outs, size_out):
             result.append(o.reshape(n, r) if c == 1 else o.transpose(0, 2, 1))
         return result
 
@@ -431,7 +443,8 @@ class MapSystem:
         """Axis values (N, 2) of configurations ``q`` (N, nf), internal units."""
         return self.evaluate("axes", np.atleast_2d(q))[0]
 
-    def solve(self, q_start, xy, tol: float = NEWTON_TOL, max_iter: int = NEWTON_ITER):
+    def solve(self, q_start, xy, tol: float = NEWTON_TOL, max_iter: int = NEWTON_ITER,
+              return_jacobian: bool = False):
         """Batched Newton on :math:`S(q; x, y, h) = 0` from ``q_start`` (N, nf) to axis values ``xy`` (N, 2).
 
         Parameters
@@ -447,10 +460,16 @@ class MapSystem:
             finite (singular position problem) or whose residual grows from iteration
             :data:`DIVERGE_AFTER` on, is reported as not converged.
 
+        return_jacobian : bool
+            Also return ``∂S/∂q`` (N, nf, nf) at the solved configurations (NaN where not
+            converged): the Jacobian of the last residual evaluation (it does not depend on
+            the targets), so a tangent there needs no further evaluation.
+
         Returns
         -------
         q : (N, nf) solved configurations (the last iterate where not converged),
-        converged : (N,) bool, residual : (N,) ``max |S|``, iterations : (N,) int.
+        converged : (N,) bool, residual : (N,) ``max |S|``, iterations : (N,) int
+        (and the Jacobian, with ``return_jacobian``).
         """
         q = np.array(np.atleast_2d(q_start), dtype=float)
         t = self.targets(xy)
@@ -461,6 +480,7 @@ class MapSystem:
         residual = np.full(n, np.inf)
         iterations = np.zeros(n, int)
         active = np.arange(n)
+        jac_out = np.full((n, self.nf, self.nf), np.nan) if return_jacobian else None
         for it in range(max_iter + 1):
             if active.size == 0:
                 break
@@ -471,6 +491,8 @@ class MapSystem:
             done = err <= tol
             converged[active[done]] = True
             iterations[active[done]] = it
+            if jac_out is not None:
+                jac_out[active[done]] = jac[done]
             # a residual that grows after the first steps: Newton diverges (no solution near), stop it
             keep = ~done & np.isfinite(err) & ((it < DIVERGE_AFTER) | (err < before))
             active, s, jac = active[keep], s[keep], jac[keep]
@@ -481,6 +503,8 @@ class MapSystem:
             q[active[ok]] -= step[ok]
             iterations[active] = it + 1
             active = active[ok]
+        if return_jacobian:
+            return q, converged, residual, iterations, jac_out
         return q, converged, residual, iterations
 
 

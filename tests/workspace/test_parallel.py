@@ -162,3 +162,37 @@ def test_cli_scheduler_equals_serial_tiles(client, capsys, tmp_path):
     serial = symkin.workspace_map(get("five_bar"), x=X, y=Y, n=21, tile=TILE)
     assert json.loads(out) == json.loads(json.dumps(serial.to_dict()))
     assert json.loads(out)["counts"]["0"]["DKP-output"] >= 4
+
+
+@pytest.mark.slow
+def test_default_one_process_run_equals_dask_run(client):
+    """No tile given: one process and Dask continue over the same tiles (default TILE), so the grid
+    arrays are identical and the curves equal, on a grid of several tiles (and the closed form holds)."""
+    from symkin.workspace.parallel import TILE
+
+    n = (TILE + 17, 33)  # two tiles along x
+    one = symkin.workspace_map(get("five_bar"), x=X, y=Y, n=n)
+    dsk = symkin.workspace_map(get("five_bar"), x=X, y=Y, n=n, client=client)
+    for a, b in zip(one.modes, dsk.modes):
+        for name in GRID_ARRAYS:
+            assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
+    assert len(one.curves) == len(dsk.curves) == 4
+    for a, b in zip(one.curves, dsk.curves):
+        assert a.kind == b.kind and a.points.shape == b.points.shape
+        assert np.max(np.abs(a.points - b.points)) <= 1e-9
+        assert _distance_to_circles(a.points).max() < 1e-9
+    truth = _workspace_truth(one.xs, one.ys)
+    px, py = np.meshgrid(one.xs, one.ys)
+    margin = np.min([np.abs(np.hypot(px - a, py) - r) for a in (-1, 1) for r in (1, 3)], axis=0)
+    clear = margin > 0.5 * (one.xs[1] - one.xs[0])
+    assert np.array_equal(one.modes[0].assembled[clear], truth[clear])
+
+
+def test_tile_argument_is_checked():
+    for bad in (1, -3, 2.5):
+        with pytest.raises(SymkinError, match="tile"):
+            symkin.workspace_map(get("five_bar"), x=X, y=Y, n=5, refine=False, tile=bad)
+    with pytest.raises(SymkinError, match="one process"):
+        symkin.workspace_map(get("five_bar"), x=X, y=Y, n=5, refine=False, tile=0, workers=2)
+    untiled = symkin.workspace_map(get("five_bar"), x=X, y=Y, n=21, refine=False, tile=0)
+    assert round(untiled.modes[0].fraction, 3) == 0.156

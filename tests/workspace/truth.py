@@ -454,3 +454,115 @@ def bisect_root(f, lo: float, hi: float, tol: float = 1e-14) -> float:
         else:
             hi = mid
     return 0.5 * (lo + hi)
+
+
+# ----------------------------------------------------------------------------------- Delta (3-R(SS)²)
+
+
+@dataclass(frozen=True)
+class Delta:
+    """A Delta robot: three legs at angles φ_i = 0°, 120°, 240° about the vertical z.
+
+    Leg i: an arm turning about the horizontal axis through A_i = R u_i along t_i (u_i = (cos φ_i,
+    sin φ_i, 0), t_i = (−sin φ_i, cos φ_i, 0)), elbow B_i = A_i + la (cos θ_i u_i − sin θ_i e_z); a
+    parallelogram of two bars of length lb from B_i ∓ (w/2) t_i to C_i ∓ (w/2) t_i, C_i = P + r u_i on
+    the platform, which therefore only translates (P its reference point).
+    """
+
+    radius: float = 1.0     # R: base
+    arm: float = 1.0        # la
+    bar: float = 2.0        # lb
+    platform: float = 0.3   # r
+    width: float = 0.4      # w: parallelogram width
+
+    def frames(self):
+        phi = np.radians([0.0, 120.0, 240.0])
+        u = np.stack([np.cos(phi), np.sin(phi), np.zeros(3)], -1)
+        t = np.stack([-np.sin(phi), np.cos(phi), np.zeros(3)], -1)
+        return u, t
+
+    def angles(self, p, knee: int = 1) -> np.ndarray:
+        """Arm angles θ_i (3,) with the platform at ``p`` (closed form), NaN where a leg does not reach.
+
+        ``|P + r u_i − B_i(θ)| = lb`` is ``q_u cos θ − q_z sin θ = K`` with ``Q = P − (R − r) u_i`` and
+        ``K = (|Q|² + la² − lb²) / (2 la)``, i.e. ``ρ cos(θ + α) = K``, ``α = atan2(q_z, q_u)``; ``knee``
+        (±1, or one per leg) picks the root.
+        """
+        u, _ = self.frames()
+        p = np.asarray(p, float)
+        out = []
+        for i in range(3):
+            q = p - (self.radius - self.platform) * u[i]
+            qu, qz = q @ u[i], q[2]
+            k = (q @ q + self.arm ** 2 - self.bar ** 2) / (2 * self.arm)
+            c = k / np.hypot(qu, qz)
+            sign = knee[i] if np.ndim(knee) else knee
+            out.append(np.nan if abs(c) > 1 else -np.arctan2(qz, qu) + sign * np.arccos(c))
+        return np.array(out)
+
+    def reach_margin(self, p) -> float:
+        """``min_i (1 − |K_i/ρ_i|)`` (see :meth:`angles`): positive where every leg reaches ``p``."""
+        u, _ = self.frames()
+        p = np.asarray(p, float)
+        out = []
+        for i in range(3):
+            q = p - (self.radius - self.platform) * u[i]
+            k = (q @ q + self.arm ** 2 - self.bar ** 2) / (2 * self.arm)
+            out.append(1.0 - abs(k / np.hypot(q @ u[i], q[2])))
+        return float(min(out))
+
+    def elbows(self, theta) -> np.ndarray:
+        u, _ = self.frames()
+        ez = np.array([0.0, 0.0, 1.0])
+        return np.array([self.radius * u[i] + self.arm * (np.cos(theta[i]) * u[i] - np.sin(theta[i]) * ez)
+                         for i in range(3)])
+
+    def bar_directions(self, p, knee: int = 1) -> np.ndarray:
+        """Unit vectors (3, 3) along the legs' bars, B_i → C_i."""
+        u, _ = self.frames()
+        b = self.elbows(self.angles(p, knee))
+        d = np.asarray(p, float) + self.platform * u - b
+        return d / np.linalg.norm(d, axis=1)[:, None]
+
+    def type2_det(self, p, knee: int = 1) -> float:
+        """det of the forward Jacobian of the leg constraints ``|C_i − B_i|² = lb²`` in P with the arms
+        locked (rows: the bar directions): zero where the three bars are parallel to one plane (type 2)."""
+        return float(np.linalg.det(self.bar_directions(p, knee)))
+
+    def rotation_det(self, p, knee: int = 1) -> float:
+        """det of the three moments ``t_i × d_i`` that the parallelograms exert on the platform: zero where
+        the locked platform can turn (a constraint singularity, not a type-2 translation)."""
+        _, t = self.frames()
+        return float(np.linalg.det(np.cross(t, self.bar_directions(p, knee))))
+
+    def nodes(self, p, knee: int = 1) -> dict:
+        """Node positions of the model at platform position ``p`` (see :meth:`model`)."""
+        u, t = self.frames()
+        p = np.asarray(p, float)
+        b = self.elbows(self.angles(p, knee))
+        h = 0.5 * self.width
+        out = {"P": p}
+        for i in range(3):
+            k = i + 1
+            out[f"A{k}"] = self.radius * u[i]
+            out[f"A{k}b"] = self.radius * u[i] + t[i]
+            out[f"B{k}a"], out[f"B{k}b"] = b[i] - h * t[i], b[i] + h * t[i]
+            c = p + self.platform * u[i]
+            out[f"C{k}a"], out[f"C{k}b"] = c - h * t[i], c + h * t[i]
+        return out
+
+    def model(self, p, knee: int = 1, scale: float = 1.0) -> dict:
+        """A symkin model dictionary: arms [A_i, A_i b, B_i a, B_i b] turning about A_i A_i b (the inputs),
+        bars [B_i a, C_i a], [B_i b, C_i b], platform [C.., P]; the output is the velocity of P."""
+        nodes = self.nodes(p, knee)
+        links = {}
+        for k in (1, 2, 3):
+            links[f"arm{k}"] = [f"A{k}", f"A{k}b", f"B{k}a", f"B{k}b"]
+            links[f"bar{k}a"] = [f"B{k}a", f"C{k}a"]
+            links[f"bar{k}b"] = [f"B{k}b", f"C{k}b"]
+        links["platform"] = [f"C{k}{s}" for k in (1, 2, 3) for s in "ab"] + ["P"]
+        return {"name": "Delta 3-R(SS)2", "dim": 3, "fixed": [f"A{k}{s}" for k in (1, 2, 3) for s in ("", "b")],
+                "mobility": 3,
+                "inputs": [{"rotation": f"arm{k}", "axis": [f"A{k}", f"A{k}b"]} for k in (1, 2, 3)],
+                "outputs": [{"velocity": "P"}],
+                "nodes": {n: [float(v) * scale for v in x] for n, x in nodes.items()}, "links": links}
