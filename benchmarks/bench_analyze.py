@@ -20,8 +20,10 @@ At ``--n`` valid configurations of each catalogue model (its free coordinates pe
 with ``mech.with_coordinates(xyz)``; ``with_coordinates`` alone is timed too.  The methods
 are timed in turn for ``--repeat`` rounds and the best round of each is kept, so that the
 load of a shared machine affects them alike; ratios are to (a) of the same run, by the wall
-clock and by the process's CPU time (steadier when other jobs share the cores).  One
-process, one thread.
+clock and by the process's CPU time (steadier when other jobs share the cores).  The last
+column is the steadiest on a shared machine: every method and the baseline run on the same
+chunk of 100 configurations one right after the other, 40 times, and the median of the
+chunks' CPU-time ratios is printed (:func:`paired_ratios`).  One process, one thread.
 """
 from __future__ import annotations
 
@@ -78,6 +80,29 @@ def best_rates(methods: dict, n: int, repeat: int) -> dict:
     return {name: tuple(v) for name, v in best.items()}
 
 
+def paired_ratios(methods: dict, items: list, chunk: int = 100, rounds: int = 40) -> dict:
+    """Median over ``rounds`` of each method's rate over the first method's rate, chunk by chunk.
+
+    ``methods`` maps a name to ``fn(chunk_of_items)``; in every round each method runs once
+    on the same chunk of ``chunk`` items, one right after the other, so a change of load on a
+    shared machine hits the numerator and the denominator of a round's ratio alike; the
+    median of the rounds' ratios (CPU time) discards the rounds a burst of load disturbed.
+    """
+    names = list(methods)
+    ratios = {name: [] for name in names}
+    for r in range(rounds):
+        start = (r * chunk) % max(1, len(items) - chunk + 1)
+        part = items[start:start + chunk]
+        cpu = {}
+        for name in names:
+            t = time.process_time()
+            methods[name](part)
+            cpu[name] = time.process_time() - t
+        for name in names:
+            ratios[name].append(cpu[names[0]] / max(cpu[name], 1e-12))
+    return {name: float(np.median(v)) for name, v in ratios.items()}
+
+
 def configurations(mech, n: int, seed: int = 0):
     """``n`` valid configurations: free coordinates and the (n_nodes, dim) coordinate arrays."""
     ev = symkin.evaluators(mech)
@@ -104,6 +129,18 @@ def bench(name: str, n: int, repeat: int) -> dict:
             lambda: [symkin.motion_space(mech.with_coordinates(x)) for x in xyz],
         "    mech.with_coordinates(xyz) alone": lambda: [mech.with_coordinates(x) for x in xyz],
     }, n, repeat)
+    pairs = list(zip(q, xyz, mechs))
+    paired = paired_ratios({
+        "(a) sympy.lambdify(G) + numpy eigh, Python loop":
+            lambda part: baseline(f_g, np.array([x for x, _, _ in part]), f),
+        "(b) symkin.analyze(m)": lambda part: [symkin.analyze(m) for _, _, m in part],
+        "(b) symkin.analyze(mech.with_coordinates(xyz))":
+            lambda part: [symkin.analyze(mech.with_coordinates(x)) for _, x, _ in part],
+        "(c) symkin.motion_space(m)": lambda part: [symkin.motion_space(m) for _, _, m in part],
+        "(c) symkin.motion_space(mech.with_coordinates(xyz))":
+            lambda part: [symkin.motion_space(mech.with_coordinates(x)) for _, x, _ in part],
+        "    mech.with_coordinates(xyz) alone": lambda part: [mech.with_coordinates(x) for _, x, _ in part],
+    }, pairs)
     gc.unfreeze()
     base = baseline(f_g, q, f)
     analyses = [symkin.analyze(m) for m in mechs]
@@ -113,16 +150,18 @@ def bench(name: str, n: int, repeat: int) -> dict:
             np.max(np.abs(im - base) / np.abs(base))),
         "singular configurations among them": sum(a.singular for a in analyses),
     }
-    return {"model": name, "n": n, "rates": rates, "notes": notes}
+    return {"model": name, "n": n, "rates": rates, "paired": paired, "notes": notes}
 
 
 def report(results: dict) -> str:
     rates = results["rates"]
     base_wall, base_cpu = next(iter(rates.values()))
     width = max(len(k) for k in rates)
+    paired = results["paired"]
     lines = [f"== {results['model']} ({results['n']} configurations)",
-             f"{'method'.ljust(width)}  {'configs/s':>10}  {'ratio to (a)':>12}  {'ratio, CPU time':>15}"]
-    lines += [f"{k.ljust(width)}  {w:10,.0f}  {w / base_wall:12.2f}  {c / base_cpu:15.2f}"
+             f"{'method'.ljust(width)}  {'configs/s':>10}  {'ratio to (a)':>12}  {'ratio, CPU time':>15}"
+             f"  {'paired median':>13}"]
+    lines += [f"{k.ljust(width)}  {w:10,.0f}  {w / base_wall:12.2f}  {c / base_cpu:15.2f}  {paired[k]:13.2f}"
               for k, (w, c) in rates.items()]
     lines += [f"  {k}: {v:.3g}" if isinstance(v, float) else f"  {k}: {v}"
               for k, v in results["notes"].items()]

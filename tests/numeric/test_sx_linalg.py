@@ -257,7 +257,6 @@ def test_an_eigenvalue_below_the_rounding_of_the_reduction_is_not_certified(kern
 @pytest.mark.parametrize("kernel", ["smallest", "above"])
 def test_certificate_does_not_claim_what_rounding_cannot_show(kernel):
     """Exactly singular and nearly singular Gram matrices: certified only when right."""
-    rng = _rng(9)
     for tiny in (0.0, 1e-30, 1e-20, 1e-14, 1e-10, 1e-6):
         for seed in range(5):
             lam = np.array([tiny, 0.5, 1.0, 1.5, 2.0, 2.5])
