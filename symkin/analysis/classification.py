@@ -381,20 +381,14 @@ def _platform_twist(topology, platform: str, outputs: tuple) -> tuple[ParameterL
     return twist, twist == tuple(outputs)
 
 
-@lru_cache(maxsize=256)
-def _free_nodes(topology, node_names: tuple, fixed: tuple) -> np.ndarray:
-    """Boolean mask of the free nodes, in node order (once per topology)."""
-    fixed_set = set(fixed)
-    return np.array([n not in fixed_set for n in node_names], dtype=bool)
-
-
 def _locked(mech: Mechanism, ms: MotionSpace, t: float) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Free nodes that cannot move for any motion, and the moving links all of whose free nodes are such."""
-    speeds = ms.node_speed_array()
-    if not (speeds[_free_nodes(mech.topology, mech.node_names, mech.fixed)] <= t).any():
+    vf = ms.V_free  # rows of the free coordinates, node by node (a node is fixed as a whole)
+    block = vf.reshape(vf.shape[0] // mech.dim, -1)
+    if not (np.sqrt((block * block).sum(axis=1)) <= t).any():
         return (), ()  # the common case: every free node can move
     fixed = set(mech.fixed)
-    still = {n for n, s in zip(mech.node_names, speeds.tolist()) if s <= t and n not in fixed}
+    still = {n for n, s in zip(mech.node_names, ms.node_speed_array().tolist()) if s <= t and n not in fixed}
     locked_nodes = tuple(n for n in mech.node_names if n in still)
     locked_links = tuple(name for name in mech.moving_links
                          if all(n in still for n in mech.link_nodes(name) if n not in fixed))

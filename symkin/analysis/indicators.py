@@ -52,8 +52,8 @@ def unit_rows(p: np.ndarray, free: np.ndarray | None = None) -> tuple[np.ndarray
     """
     p = np.asarray(p, dtype=float)
     pf = p if free is None else p[..., free]
-    norms = np.sqrt(np.einsum("...j,...j->...", pf, pf))
-    safe = np.where(norms > 0, norms, 1.0)
+    norms = np.sqrt((pf * pf).sum(axis=-1))
+    safe = norms if norms.all() else np.where(norms > 0, norms, 1.0)
     return p / safe[..., None], safe
 
 
@@ -68,16 +68,19 @@ def padded_singular_values(j: np.ndarray, nf: int) -> np.ndarray:
     return out
 
 
-def im_indicator(singular_values: np.ndarray, mobility: int) -> np.ndarray:
+def im_indicator(singular_values: np.ndarray, mobility: int, ascending: bool = False) -> np.ndarray:
     """``λ_{F+1}``: the (F+1)-th smallest eigenvalue ``σ²`` of the reduced G (§IV-A).
 
     ``singular_values`` (..., nf) of the reduced ``J`` including the structural zeros, in
-    any order.  NaN when ``F >= nf``.  It vanishes at increased-mobility configurations.
+    any order (``ascending=True`` says they are sorted already).  NaN when ``F >= nf``.
+    It vanishes at increased-mobility configurations.
 
     >>> float(im_indicator(np.array([2.0, 0.0, 0.5]), 1))
     0.25
     """
-    s = np.sort(np.asarray(singular_values, dtype=float), axis=-1)
+    s = np.asarray(singular_values, dtype=float)
+    if not ascending:
+        s = np.sort(s, axis=-1)
     if mobility >= s.shape[-1]:
         return np.full(s.shape[:-1], np.nan)
     return s[..., mobility] ** 2

@@ -104,7 +104,7 @@ class MotionSpace:
         f = self.mechanism.mobility_value if mobility is None else mobility
         if f >= self.singular_values.size:
             return None
-        return float(indicators.im_indicator(self.singular_values, f))
+        return float(indicators.im_indicator(self.singular_values, f, ascending=True))
 
     def omega(self) -> tuple[np.ndarray, tuple[str, ...]]:
         """Ω of eq. (10): angular-velocity rows of the moving links times V, and labels."""
