@@ -79,6 +79,8 @@ __all__ = ["LociError", "LocusFactor", "Locus", "Loci", "implicit_loci", "closur
 
 #: the kinds of loci, in the order derived
 KINDS = ("DKP-input", "DKP-output", "IM")
+#: most IM minors whose common zeros are eliminated
+MAX_IM_MINORS = 200
 #: angle units of hold values, factor to radians
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 
@@ -927,13 +929,17 @@ def _im_locus(sm, sys, subs, blocks, xs, done: list, time_limit, limit, t0) -> L
     if not cond.minors:
         raise LociError("the IM condition was derived as one Gram determinant (no minors): its locus "
                         "is not eliminated here")
+    if len(cond.minors) > MAX_IM_MINORS:
+        raise LociError(f"the IM condition has {len(cond.minors)} distinct maximal minors (more than "
+                        f"{MAX_IM_MINORS}); their common zeros are not eliminated here")
+    minors = [_to_nodal(m, sm, sys) for m in cond.minors]  # each primitive over the rationals
+    minors = [sp.expand(m.xreplace(subs)) for m in minors]
     rng = random.Random(0)
     norms = []
-    for _ in range(2):  # two random combinations of the minors, rewritten in nodal coordinates once each
-        combo = sp.Add(*[rng.randint(1, 97) * m for m in cond.minors])
-        g = sp.expand(_to_nodal(combo, sm, sys).xreplace(subs))
+    for _ in range(2):  # two random combinations of the minors
+        combo = sp.expand(sp.Add(*[rng.randint(1, 97) * m for m in minors]))
         _poll(limit)
-        norms.append(_eliminate(g, blocks, limit) if g != 0 else sp.Integer(0))
+        norms.append(_eliminate(combo, blocks, limit) if combo != 0 else sp.Integer(0))
     common = sp.gcd(norms[0], norms[1])
     if common == 0:
         return Locus("IM", (), (), time.perf_counter() - t0, "IM on the whole slice", True)
