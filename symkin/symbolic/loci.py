@@ -405,7 +405,8 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
                 sys.equations = [(eq, o) for eq, o in sys.equations if o != f"link {link} ({ns[0]}-{ns[1]})"]
             return [(e[0] - target[0], owner), (e[1] - target[1], owner)]
         ll = _sqrt_rational(_dot(e0, e0), f"{c.label} as a locus variable (link {link})")
-        t = value
+        t = value  # the direction fixes the link's vector: its distance equation is implied
+        sys.equations = [(eq, o) for eq, o in sys.equations if o != f"link {link} ({ns[0]}-{ns[1]})"]
         return [(e[0] * (1 + t ** 2) - ll * (1 - t ** 2), owner), (e[1] * (1 + t ** 2) - 2 * ll * t, owner)]
     if p.kind == "slide":
         s = mech.slider(p.target[0])
@@ -557,6 +558,31 @@ def _degree_in(e: sp.Poly, us: list) -> int:
     return max((sum(m[i] for i in us) for m in e.monoms()), default=0)
 
 
+def _quadratic_part(e: sp.Poly, us: list) -> sp.Poly:
+    """The terms of ``e`` of degree 2 in the unknowns ``us`` (coefficients in the other symbols)."""
+    return sp.Poly.from_dict({m: c for m, c in e.terms() if sum(m[i] for i in us) == 2}, *e.gens,
+                             domain=e.domain)
+
+
+def _radical_axis(a: sp.Poly, b: sp.Poly, us: list) -> sp.Poly | None:
+    """``c_b a − c_a b`` when the quadratic parts of ``a`` and ``b`` in ``us`` are proportional
+    (``c_a``, ``c_b`` their coefficients of one quadratic monomial): an equation of degree 1."""
+    qa, qb = _quadratic_part(a, us), _quadratic_part(b, us)
+    if qa.is_zero or qb.is_zero:
+        return None
+    pivot = next(m for m in qa.monoms())
+    # the coefficient of the pivot monomial of the unknowns, as a polynomial in the other symbols
+    def coeff(q):
+        key = tuple(pivot[k] if k in us else None for k in range(len(pivot)))
+        return sp.Poly.from_dict({tuple(0 if k in us else m[k] for k in range(len(m))): c for m, c in q.terms()
+                                  if all(m[k] == key[k] for k in us)}, *q.gens, domain=q.domain)
+    ca, cb = coeff(qa), coeff(qb)
+    if ca.is_zero or cb.is_zero or not (cb * qa - ca * qb).is_zero:
+        return None
+    out = cb * a - ca * b
+    return None if out.is_zero else out
+
+
 def _block_norm(f: sp.Poly, eqs: list, us: list, limit) -> tuple[sp.Poly, sp.Poly]:
     """``N(f) = Π f(branch)`` over the solutions of the square block ``eqs`` (polys) in the
     unknowns ``us`` (generator indices), as ``(numerator, denominator)`` (see the module docstring)."""
@@ -568,14 +594,11 @@ def _block_norm(f: sp.Poly, eqs: list, us: list, limit) -> tuple[sp.Poly, sp.Pol
     while len(us) > 1:
         _poll(limit)
 
-        def quad(e):
-            return {m: c for m, c in e.terms() if sum(m[i] for i in us) == 2}
-
         done = False
         for i, j in itertools.combinations(range(len(eqs)), 2):
-            qi = quad(eqs[i])
-            if qi and qi == quad(eqs[j]):  # two circles through one node: their radical axis
-                eqs[j] = eqs[j] - eqs[i]
+            combo = _radical_axis(eqs[i], eqs[j], us)
+            if combo is not None:  # two circles through one node: their radical axis
+                eqs[j] = combo
                 done = True
                 break
         pick = None
@@ -601,6 +624,9 @@ def _block_norm(f: sp.Poly, eqs: list, us: list, limit) -> tuple[sp.Poly, sp.Pol
     if not eqs:
         raise LociError("a block has fewer equations than unknowns: the variables and holds do not fix it")
     u = us[0]
+    eqs = [e for e in eqs if e.degree(gens[u]) > 0]
+    if not eqs:
+        raise LociError(f"a block leaves {gens[u]} undetermined: the variables and holds do not fix it")
     q = min(eqs, key=lambda e: (e.degree(gens[u]), len(e.terms())))
     _poll(limit)
     order = (gens[u],) + tuple(g for k, g in enumerate(gens) if k != u)
