@@ -289,8 +289,8 @@ def closure_polynomials(mech: Mechanism) -> list[tuple[sp.Expr, str]]:
     the numeric closure (:mod:`symkin.numeric.casadi_model`) does, which a test checks.
 
     >>> from symkin.model.catalogue import get
-    >>> [str(e) for e, _ in closure_polynomials(get("fourbar_appendix"))][:1]
-    ['(x_B - 0.0)**2 + (y_B - 0.0)**2 - 1']
+    >>> [(str(e), owner) for e, owner in closure_polynomials(get("five_bar"))][:2]
+    [('x_B1**2 + 2*x_B1 + y_B1**2', 'link crank1 (A1-B1)'), ('x_B2**2 - 2*x_B2 + y_B2**2', 'link crank2 (A2-B2)')]
     """
     return [(e, o) for e, o in _build(mech).equations]
 
@@ -819,9 +819,12 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
 
     >>> from symkin.model.catalogue import get
     >>> loci = implicit_loci(get("five_bar"), kinds=("DKP-output",))
-    >>> [(f.degree, f.meaning) for f in loci["DKP-output"].factors][:2]
-    [(2, 'circle centred at pivot A1 (-1, 0), radius 1 = |l_crank1 - l_distal1|'), \
-(2, 'circle centred at pivot A1 (-1, 0), radius 3 = l_crank1 + l_distal1')]
+    >>> for f in loci["DKP-output"].factors:
+    ...     print(f.polynomial, "|", f.meaning)
+    x_P**2 - 2*x_P + y_P**2 | circle centred at pivot A2 (1, 0), radius 1 = |l_crank2 - l_distal2|
+    x_P**2 + 2*x_P + y_P**2 | circle centred at pivot A1 (-1, 0), radius 1 = |l_crank1 - l_distal1|
+    x_P**2 - 2*x_P + y_P**2 - 8 | circle centred at pivot A2 (1, 0), radius 3 = l_crank2 + l_distal2
+    x_P**2 + 2*x_P + y_P**2 - 8 | circle centred at pivot A1 (-1, 0), radius 3 = l_crank1 + l_distal1
     """
     from symkin.symbolic.model import symbolic_model
 
