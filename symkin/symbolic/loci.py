@@ -696,6 +696,14 @@ def _meaning(f: sp.Expr, xs, mech: Mechanism, x0: dict) -> tuple[str, bool]:
     d = p.total_degree()
     if d == 0:
         return "nonzero constant", True
+    names = [str(v) for v in xs]
+    if all(n.startswith("t_") for n in names):  # two tangent half-angles: relations of the two angles
+        t1, t2 = xs
+        l1, l2 = names[0][2:], names[1][2:]
+        if sp.expand(f - (t1 - t2)) == 0 or sp.expand(f + (t1 - t2)) == 0:
+            return f"theta_{l1} = theta_{l2} (links {l1} and {l2} parallel, same direction)", False
+        if sp.expand(f - (t1 * t2 + 1)) == 0:
+            return f"theta_{l1} = theta_{l2} + pi (links {l1} and {l2} parallel, opposite directions)", False
     if d == 1:
         return f"line {sp.sstr(f)} = 0", False
     c = {m: p.coeff_monomial(x ** m[0] * y ** m[1]) for m in itertools.product(range(d + 1), repeat=2)

@@ -151,6 +151,32 @@ def test_scale_invariance_millimetres_and_metres():
         assert a == b, kind
 
 
+def two_r_arm(scale=1.0) -> symkin.Mechanism:
+    return symkin.Mechanism.from_dict({
+        "name": "2R arm", "dim": 2, "fixed": ["A"],
+        "inputs": [{"rotation": "upper"}, {"rotation": "fore"}], "outputs": [{"velocity": "P"}],
+        "nodes": {"A": [0.0, 0.0], "B": [3.0 * scale, 4.0 * scale], "P": [3.0 * scale, 6.0 * scale]},
+        "links": {"upper": ["A", "B"], "fore": ["B", "P"]}})
+
+
+def test_joint_space_locus_in_tangent_half_angles():
+    """A 2R arm (links 5 and 2) in (t_upper, t_fore) = tan(θ/2): the end point cannot move along
+    the arm where sin(θ_fore − θ_upper) = 0, whose numerator in the half-angle tangents is
+    (t_fore − t_upper)(1 + t_upper t_fore); in (x_P, y_P) the circles of radius 5 ± 2 about A."""
+    mech = two_r_arm()
+    loci = implicit_loci(mech, ("rotation:upper", "rotation:fore"), kinds=("DKP-output",))
+    tu, tf = loci.variables
+    assert (tu.name, tf.name) == ("t_upper", "t_fore")
+    cos = lambda t: (1 - t ** 2) / (1 + t ** 2)  # noqa: E731
+    sin = lambda t: 2 * t / (1 + t ** 2)  # noqa: E731
+    expected = sp.numer(sp.together(sin(tf) * cos(tu) - cos(tf) * sin(tu)))  # sin(θf − θu)
+    assert same_up_to_constant(loci["DKP-output"].polynomial, expected, (tu, tf))
+    assert {f.degree for f in loci["DKP-output"].factors} == {1, 2}
+    assert any("opposite directions" in f.meaning for f in loci["DKP-output"].factors)
+    ws = implicit_loci(mech, ("velocity:P.x", "velocity:P.y"), kinds=("DKP-output",))["DKP-output"]
+    assert factor_set(ws, (x, y)) == {primitive(x ** 2 + y ** 2 - r ** 2, (x, y)) for r in (3, 7)}
+
+
 # ----------------------------------------------------------------------------------- 3-RPR conic
 def test_rpr_constant_orientation_conic_of_sefrioui_gosselin():
     """At constant orientation the type-2 locus is a conic: its cubic terms cancel (degree 2)."""
