@@ -463,7 +463,8 @@ def _to_nodal(expr: sp.Expr, sm, sys: _System) -> sp.Expr:
 
 
 def _rational_primitive(expr: sp.Expr, what: str) -> sp.Expr:
-    """``expr`` divided by its leading coefficient, with rational coefficients (or a LociError)."""
+    """``expr`` divided by its leading coefficient, with rational coefficients: an irrational
+    one (a model whose nodes are floats of irrational numbers) is taken at its float value."""
     if expr == 0:
         return expr
     gens = sorted(expr.free_symbols, key=lambda s: s.name)
@@ -473,10 +474,11 @@ def _rational_primitive(expr: sp.Expr, what: str) -> sp.Expr:
     lc = poly.LC()
     terms = []
     for monom, coeff in poly.terms():
-        c = sp.nsimplify(sp.radsimp(coeff / lc))
+        c = sp.radsimp(coeff / lc)
         if not c.is_Rational:
-            raise LociError(f"{what} has irrational coefficients in nodal coordinates ({c}); "
-                            "the elimination works over the rationals")
+            # irrational constants (sqrt(3) of a model built from cos 30°) against node coordinates
+            # that are floats: the model is taken at its floats, as the closure is
+            c = _q(float(c))
         terms.append(c * sp.Mul(*[g ** k for g, k in zip(gens, monom)]))
     p = sp.Poly(sp.Add(*terms), *gens, domain="QQ")
     return p.clear_denoms()[1].primitive()[1].as_expr()
