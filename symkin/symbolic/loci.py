@@ -734,9 +734,15 @@ def _meaning(f: sp.Expr, xs, mech: Mechanism, x0: dict) -> tuple[str, bool]:
     return f"degree-{d} curve", False
 
 
+def _num(v) -> str:
+    """A number for a meaning: exact when short (``19/4``, ``sqrt(2)``), else 6 digits."""
+    text = sp.sstr(v)
+    return text if len(text) <= 12 else f"{float(v):.6g}"
+
+
 def _node_at(mech, x0, point, xs) -> str:
     """``"A1 (-1, 0)"`` when a node of the model (in the two variables' axes) is there."""
-    txt = f"({sp.sstr(point[0])}, {sp.sstr(point[1])})"
+    txt = f"({_num(point[0])}, {_num(point[1])})"
     names = [str(s) for s in xs]
     if all(n[:2] in ("x_", "y_", "z_") for n in names):
         axes = [AXES.index(n[0]) for n in names]
@@ -749,7 +755,7 @@ def _node_at(mech, x0, point, xs) -> str:
 def _radius_text(r, mech, x0, centre: str | None = None) -> str:
     """``"3 = l_crank1 + l_distal1"``: the radius as one length, or the sum or difference of
     two lengths of links in a chain from ``centre`` (a node) when there is one."""
-    out = sp.sstr(r)
+    out = _num(r)
     lengths = _length_names(mech, x0)
     links = dict(mech.links)
 
