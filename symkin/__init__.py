@@ -29,6 +29,14 @@ def symbolic_model(mechanism, *args, **kwargs):
     return _symbolic_model(mechanism, *args, **kwargs)
 
 
+def implicit_loci(mechanism, *args, **kwargs):
+    """Singularity loci as implicit polynomials in two coordinates: see
+    :func:`symkin.symbolic.loci.implicit_loci` (sympy is imported on first use)."""
+    from symkin.symbolic.loci import implicit_loci as _implicit_loci
+
+    return _implicit_loci(mechanism, *args, **kwargs)
+
+
 def trace(mechanism, *args, **kwargs):
     """Trace a path and locate its singular configurations: see :func:`symkin.paths.trace.trace`."""
     from symkin.paths.trace import trace as _trace
@@ -67,6 +75,6 @@ __version__ = "0.1.0"
 
 __all__ = ["Analysis", "Evaluators", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "trace", "solve_all", "catalogue", "evaluators", "symbolic_model", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "analyze", "trace", "solve_all", "catalogue", "evaluators", "symbolic_model", "implicit_loci", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
            "write_model", "workspace_map", "load_map",
            "__version__"]

@@ -1,5 +1,11 @@
 """``symkin conditions MODEL [--coordinates angles|nodes] [--latex]``: singularity conditions.
 
+With ``--in LABEL_X,LABEL_Y [--hold LABEL[=VALUE] ...]`` it gives instead the singularity *loci*:
+every other coordinate eliminated, each locus a factored polynomial in the two variables
+(``x_P``, ``y_P``; ``t_L`` = tan(θ_L/2) for a rotation, ``s_S`` for a slide), see
+:func:`symkin.symbolic.loci.implicit_loci`.  ``--json`` prints ``{"variables": [...], "loci":
+[{"kind", "factors": [{"polynomial", "degree", "meaning"}]}]}``.
+
 Derives, for the mechanism of a model file, the IM condition (the characteristic-polynomial
 coefficient of the geometric matrix that vanishes exactly where ``L > F``) and the DKP
 conditions of the declared inputs and outputs (determinants of the velocity equation
@@ -30,6 +36,13 @@ def add_arguments(p) -> None:
     p.add_argument("--time-limit", type=float, default=120.0, metavar="SECONDS",
                    help="give up on a condition after this many seconds (default 120; 0 = no limit)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--in", dest="variables", metavar="LABEL_X,LABEL_Y", default=None,
+                   help="give the singularity loci as implicit polynomials in these two coordinates "
+                        "(labels as symkin map --x takes them, e.g. velocity:P.x,velocity:P.y)")
+    p.add_argument("--hold", action="append", default=[], metavar="LABEL[=VALUE]",
+                   help="with --in: a held coordinate (F - 2 of them; default value: the model's)")
+    p.add_argument("--unit", choices=("deg", "rad"), default="deg",
+                   help="with --in: unit of held angle values (default deg)")
 
 
 def _values_line(sm) -> str:
@@ -41,6 +54,10 @@ def run(args) -> Output:
     from symkin.symbolic import symbolic_model
 
     mech = read_model(args.model)
+    if args.variables is not None:
+        return _run_loci(args, mech)
+    if args.hold:
+        raise SymkinError("--hold needs --in LABEL_X,LABEL_Y (the held coordinates of a locus)")
     coordinates = args.coordinates or ("angles" if mech.dim == 2 else "nodes")
     if coordinates == "angles" and mech.dim != 2:
         raise SymkinError(f"{args.model}: angle coordinates are for planar models; use --coordinates nodes")
@@ -86,6 +103,28 @@ def run(args) -> Output:
     failed = len(conditions) < 1 + sum(1 for p in (mech.inputs, mech.outputs) if p)
     return Output("\n".join(lines), code=1 if failed else 0,
                   message="some conditions were not derived (see above)" if failed else "")
+
+
+def _run_loci(args, mech) -> Output:
+    from symkin.symbolic.loci import implicit_loci
+
+    labels = [t.strip() for t in str(args.variables).split(",") if t.strip()]
+    if len(labels) != 2:
+        raise SymkinError(f"{args.model}: --in needs two labels LABEL_X,LABEL_Y, got {args.variables!r}")
+    limit = args.time_limit if args.time_limit and args.time_limit > 0 else None
+    try:
+        loci = implicit_loci(mech, tuple(labels), hold=tuple(args.hold), time_limit=limit, unit=args.unit)
+    except SymkinError as exc:
+        raise type(exc)(f"{args.model}: {exc}") if type(exc) is SymkinError else exc
+    if args.json:
+        text = json.dumps(dict(loci.as_dict(), model=str(args.model), name=mech.name), indent=2)
+    elif args.latex:
+        text = loci.latex()
+    else:
+        text = str(loci)
+    failed = bool(loci.skipped)
+    return Output(text, code=1 if failed else 0,
+                  message="some loci were not derived (see above)" if failed else "")
 
 
 __all__ = ["NAME", "HELP", "add_arguments", "run"]

@@ -15,6 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from symkin.errors import SymkinError
+from symkin.model.labels import CoordinateLabel, accepted_labels, accepted_text, parse_label
+from symkin.model.labels import _driving as _driving_labels
+from symkin.model.labels import coordinate_labels
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 
 __all__ = ["InputCoordinate", "LinearInput", "accepted_input_labels", "input_coordinates", "parse_input_label",
@@ -22,20 +25,20 @@ __all__ = ["InputCoordinate", "LinearInput", "accepted_input_labels", "input_coo
 
 
 @dataclass(frozen=True)
-class InputCoordinate:
+class InputCoordinate(CoordinateLabel):
     """One scalar input coordinate: a finite quantity whose rate is a kinematic parameter.
 
     ``kind`` is ``"angle"`` (radians) or ``"length"`` (model units); ``label`` as in reports;
-    ``component`` picks the axis of a whole-node velocity parameter.  :meth:`expression`
+    ``component`` picks the axis of a whole-node velocity parameter (the label itself is
+    resolved by :func:`symkin.model.labels.parse_label`).  :meth:`expression`
     builds its value as a CasADi expression of all nodal coordinates, measured from the
     model's configuration (angles relative to it, in (−π, π]); gradients come from it by
     automatic differentiation.
     """
 
-    label: str
-    kind: str
-    parameter: Parameter
-    component: int = 0
+    @classmethod
+    def of(cls, c: CoordinateLabel) -> "InputCoordinate":
+        return cls(c.label, c.kind, c.parameter, c.component)
 
     def expression(self, mech: Mechanism, x, x0: np.ndarray):
         """CasADi expression of the value; ``x`` is an (n·dim) SX/MX column of all coordinates."""
@@ -135,28 +138,12 @@ def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
 
 def input_coordinates(mech: Mechanism, params=None) -> tuple[InputCoordinate, ...]:
     """Scalar input coordinates of ``params`` (default: the model's inputs)."""
-    out = []
-    for p in (mech.inputs if params is None else params):
-        labels = p.labels(mech.dim)
-        if p.kind == "twist" or (p.kind == "velocity" and p.component is None):
-            if p.kind == "twist":
-                raise SymkinError(f"{labels[0]}: a twist cannot drive a path; use velocity components and a rotation")
-            out += [InputCoordinate(lab, "length", p, k) for k, lab in enumerate(labels)]
-            continue
-        kind = "angle" if p.kind in ("rotation", "joint") else "length"
-        out.append(InputCoordinate(labels[0], kind, p))
-    return tuple(out)
+    return tuple(InputCoordinate.of(c) for c in coordinate_labels(mech, params))
 
 
 def _driving(mech: Mechanism, params) -> list[InputCoordinate]:
     """The scalar coordinates of ``params`` that can drive a path (twists and the like are skipped)."""
-    out = []
-    for p in params:
-        try:
-            out += input_coordinates(mech, [p])
-        except SymkinError:
-            pass
-    return out
+    return [InputCoordinate.of(c) for c in _driving_labels(mech, params)]
 
 
 def accepted_input_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
@@ -165,6 +152,7 @@ def accepted_input_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
     path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
     (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
+    One definition: :func:`symkin.model.labels.accepted_labels`.
 
     Examples
     --------
@@ -173,12 +161,7 @@ def accepted_input_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     >>> accepted["inputs"], accepted["outputs"], accepted["rotation"]
     (('rotation:crank',), ('rotation:rocker',), ('crank', 'coupler', 'rocker'))
     """
-    inputs = tuple(c.label for c in input_coordinates(mech))
-    outputs = tuple(c.label for c in _driving(mech, mech.outputs) if c.label not in inputs)
-    return {"inputs": inputs, "outputs": outputs,
-            "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
-            "slide": tuple(s.id for s in mech.sliders),
-            "velocity": tuple(mech.free_nodes)}
+    return accepted_labels(mech)
 
 
 def parse_input_label(mech: Mechanism, label: str) -> InputCoordinate:
@@ -187,37 +170,13 @@ def parse_input_label(mech: Mechanism, label: str) -> InputCoordinate:
     Matches the model's input labels first, then its output labels, then any rotation of a
     moving link (planar), slide of a slider or velocity component of a free node it can
     build (see :func:`accepted_input_labels`); an unknown label raises a
-    :class:`SymkinError` that lists what is accepted.
+    :class:`SymkinError` that lists what is accepted.  The label is resolved by
+    :func:`symkin.model.labels.parse_label` (one definition, shared with the symbolic stage).
     """
-    for c in input_coordinates(mech) + tuple(_driving(mech, mech.outputs)):
-        if c.label == label:
-            return c
-    kind, _, rest = label.partition(":")
-    target, _, comp = rest.partition(".")
-    if kind == "rotation" and target in mech.moving_links and mech.dim == 2:
-        return input_coordinates(mech, [Parameter("rotation", (target,))])[0]
-    if kind == "slide":
-        try:
-            return input_coordinates(mech, [Parameter("slide", (mech.slider(target).id,))])[0]
-        except KeyError:
-            pass
-    if kind == "velocity" and target in mech.free_nodes and comp in AXES[: mech.dim]:
-        return input_coordinates(mech, [Parameter("velocity", (target,), component=comp)])[0]
-    raise SymkinError(f"unknown input {label!r}; {_accepted_text(mech)}")
+    return InputCoordinate.of(parse_label(mech, label))
 
 
-def _accepted_text(mech: Mechanism) -> str:
-    a = accepted_input_labels(mech)
-    parts = [f"the model's inputs ({', '.join(a['inputs']) or 'none'})"]
-    if a["outputs"]:
-        parts.append(f"its outputs ({', '.join(a['outputs'])})")
-    if a["rotation"]:
-        parts.append(f"rotation:<link> for a moving link ({', '.join(a['rotation'])})")
-    if a["slide"]:
-        parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
-    if a["velocity"]:
-        parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
-    return "a path can be driven by " + "; ".join(parts)
+_accepted_text = accepted_text
 
 
 @dataclass(frozen=True)

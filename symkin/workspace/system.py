@@ -75,6 +75,7 @@ import numpy as np
 
 from symkin.analysis.batch import Evaluators, evaluators_for
 from symkin.errors import SymkinError
+from symkin.model.labels import parse_hold  # noqa: F401  (moved to the model stage; re-exported)
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.paths.coordinates import InputCoordinate, accepted_input_labels, parse_input_label
@@ -226,24 +227,6 @@ def map_coordinate(mech: Mechanism, label: str) -> MapCoordinate:
     c = parse_input_label(mech, label)
     x0 = np.array([v for _, v in mech.nodes], dtype=float)
     return MapCoordinate(c.label, c.kind, c, _offset(mech, c, x0))
-
-
-def parse_hold(text: str) -> tuple[str, float | None]:
-    """``"LABEL[=VALUE]"`` → ``(label, value or None)`` (the value in the user unit).
-
-    >>> parse_hold("rotation:platform=30"), parse_hold("rotation:platform")
-    (('rotation:platform', 30.0), ('rotation:platform', None))
-    """
-    label, eq, value = str(text).partition("=")
-    label = label.strip()
-    if not label:
-        raise SymkinError(f"--hold {text!r}: no label (expected LABEL or LABEL=VALUE)")
-    if not eq:
-        return label, None
-    try:
-        return label, float(value)
-    except ValueError:
-        raise SymkinError(f"--hold {text!r}: {value!r} is not a number") from None
 
 
 def _holds_needed_text(mech: Mechanism, used: set[str]) -> str:

@@ -1,0 +1,149 @@
+"""Labels of position-level coordinates: ``rotation:crank``, ``slide:piston``, ``velocity:P.x``.
+
+The pure part of what ``symkin path --input``, ``symkin map --x/--hold`` and
+``symkin conditions --in/--hold`` accept: a label names a kinematic parameter of the model
+(one of its inputs or outputs, or a rotation of a moving link, a slide of a slider, a
+coordinate of a free node), and a scalar *coordinate* whose rate is that parameter.  Plain
+data, no numerics: the stages to the right give the coordinate its value (CasADi in
+:mod:`symkin.paths.coordinates`, polynomials in :mod:`symkin.symbolic.loci`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from symkin.errors import SymkinError
+from symkin.model.mechanism import AXES, Mechanism, Parameter
+
+__all__ = ["CoordinateLabel", "coordinate_labels", "accepted_labels", "parse_label", "parse_hold"]
+
+
+@dataclass(frozen=True)
+class CoordinateLabel:
+    """One scalar coordinate named by a label.
+
+    ``kind`` is ``"angle"`` (radians) or ``"length"`` (model units); ``component`` picks the
+    axis of a whole-node velocity parameter (``velocity: P`` gives ``velocity:P.x`` and
+    ``velocity:P.y``).
+    """
+
+    label: str
+    kind: str
+    parameter: Parameter
+    component: int = 0
+
+    @property
+    def axis(self) -> int:
+        """For a velocity coordinate: the index of its axis (0 = x, 1 = y, 2 = z)."""
+        p = self.parameter
+        return AXES.index(p.component) if p.component else self.component
+
+
+def coordinate_labels(mech: Mechanism, params=None) -> tuple[CoordinateLabel, ...]:
+    """Scalar coordinates of ``params`` (default: the model's inputs); a twist raises."""
+    out = []
+    for p in (mech.inputs if params is None else params):
+        labels = p.labels(mech.dim)
+        if p.kind == "twist" or (p.kind == "velocity" and p.component is None):
+            if p.kind == "twist":
+                raise SymkinError(f"{labels[0]}: a twist cannot drive a path; use velocity components and a rotation")
+            out += [CoordinateLabel(lab, "length", p, k) for k, lab in enumerate(labels)]
+            continue
+        kind = "angle" if p.kind in ("rotation", "joint") else "length"
+        out.append(CoordinateLabel(labels[0], kind, p))
+    return tuple(out)
+
+
+def _driving(mech: Mechanism, params) -> list[CoordinateLabel]:
+    """The scalar coordinates of ``params`` that can drive a path (twists and the like are skipped)."""
+    out = []
+    for p in params:
+        try:
+            out += coordinate_labels(mech, [p])
+        except SymkinError:
+            pass
+    return out
+
+
+def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
+    """What :func:`parse_label` accepts for ``mech``, by kind (what an error message lists).
+
+    Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
+    path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
+    (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> accepted = accepted_labels(get("fourbar_appendix"))
+    >>> accepted["inputs"], accepted["outputs"], accepted["rotation"]
+    (('rotation:crank',), ('rotation:rocker',), ('crank', 'coupler', 'rocker'))
+    """
+    inputs = tuple(c.label for c in coordinate_labels(mech))
+    outputs = tuple(c.label for c in _driving(mech, mech.outputs) if c.label not in inputs)
+    return {"inputs": inputs, "outputs": outputs,
+            "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
+            "slide": tuple(s.id for s in mech.sliders),
+            "velocity": tuple(mech.free_nodes)}
+
+
+def parse_label(mech: Mechanism, label: str) -> CoordinateLabel:
+    """The coordinate named ``label`` (``rotation:crank``, ``slide:piston``, ``velocity:P.x`` ...).
+
+    Matches the model's input labels first, then its output labels, then any rotation of a
+    moving link (planar), slide of a slider or velocity component of a free node (see
+    :func:`accepted_labels`); an unknown label raises a :class:`SymkinError` that lists
+    what is accepted.
+
+    >>> from symkin.model.catalogue import get
+    >>> c = parse_label(get("five_bar"), "velocity:P.y")
+    >>> c.kind, c.parameter.target, c.axis
+    ('length', ('P',), 1)
+    """
+    for c in coordinate_labels(mech) + tuple(_driving(mech, mech.outputs)):
+        if c.label == label:
+            return c
+    kind, _, rest = label.partition(":")
+    target, _, comp = rest.partition(".")
+    if kind == "rotation" and target in mech.moving_links and mech.dim == 2:
+        return coordinate_labels(mech, [Parameter("rotation", (target,))])[0]
+    if kind == "slide":
+        try:
+            return coordinate_labels(mech, [Parameter("slide", (mech.slider(target).id,))])[0]
+        except KeyError:
+            pass
+    if kind == "velocity" and target in mech.free_nodes and comp in AXES[: mech.dim]:
+        return coordinate_labels(mech, [Parameter("velocity", (target,), component=comp)])[0]
+    raise SymkinError(f"unknown input {label!r}; {accepted_text(mech)}")
+
+
+def accepted_text(mech: Mechanism) -> str:
+    """The accepted labels of ``mech`` in words (for error messages)."""
+    a = accepted_labels(mech)
+    parts = [f"the model's inputs ({', '.join(a['inputs']) or 'none'})"]
+    if a["outputs"]:
+        parts.append(f"its outputs ({', '.join(a['outputs'])})")
+    if a["rotation"]:
+        parts.append(f"rotation:<link> for a moving link ({', '.join(a['rotation'])})")
+    if a["slide"]:
+        parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
+    if a["velocity"]:
+        parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
+    return "a path can be driven by " + "; ".join(parts)
+
+
+def parse_hold(text: str) -> tuple[str, float | None]:
+    """``"LABEL[=VALUE]"`` → ``(label, value or None)`` (the value in the user unit).
+
+    >>> parse_hold("rotation:platform=30"), parse_hold("rotation:platform")
+    (('rotation:platform', 30.0), ('rotation:platform', None))
+    """
+    label, eq, value = str(text).partition("=")
+    label = label.strip()
+    if not label:
+        raise SymkinError(f"--hold {text!r}: no label (expected LABEL or LABEL=VALUE)")
+    if not eq:
+        return label, None
+    try:
+        return label, float(value)
+    except ValueError:
+        raise SymkinError(f"--hold {text!r}: {value!r} is not a number") from None
