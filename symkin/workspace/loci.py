@@ -1171,7 +1171,10 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         if qa is None:
             continue
         ya = qa / pb.scale
-        locate_and_take(KINDS, pa, pb_, lambda: locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)[:2],
+        # the grid pre-check against the boundary's kind only: a fold next to an interior curve of the
+        # other kind (the Delta's type-2 curve runs within a cell of its reach boundary) is still located
+        locate_and_take((boundary[0],), pa, pb_,
+                        lambda: locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)[:2],
                         NotConvergedError)
     steps = np.array([abs(float(grid.xs[1] - grid.xs[0])) / scale[0], abs(float(grid.ys[1] - grid.ys[0])) / scale[1]])
     for j, i in _im_candidates(grid):
