@@ -56,6 +56,9 @@ Algorithm
    cannot be continued.  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
+   the cells around it are subdivided (:func:`symkin.workspace.quadtree.subdivide` with the
+   IM indicator as ``T``: it has no sign change, so the quadtree descends to the finest cell
+   holding its smallest value), and from there (then from the node)
    :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
    the constraints lose rank; the core decides whether it is IM (it is then reported).
 5. **Dips, quadtree, double zeros** — a grid point whose ``|T|`` is a near-zero minimum along
@@ -352,7 +355,11 @@ class _Problems:
     def slope(self, kind: str, y, n) -> float:
         """``∂T/∂n`` at ``y`` along the dimensionless axis direction ``n`` (see :meth:`_slope_functions`)."""
         self.counter.n += 1
-        return float(self._slope_functions(kind)[2](y, ca.DM(np.asarray(n, float))))
+        try:
+            return float(self._slope_functions(kind)[2](y, ca.DM(np.asarray(n, float))))
+        except RuntimeError as exc:  # CasADi: the square problem's Jacobian is singular at y (a fold, IM)
+            raise NotConvergedError(f"∂T/∂n ({kind}) is not defined here: the square problem is singular",
+                                    y=np.asarray(y, float).ravel()) from exc
 
     def slope_curve(self, kind: str, n) -> "_Curve":
         """The curve ``(Φ/ℓ, holds, ∂T/∂n) = 0``: through a double zero of ``T`` it follows that locus."""
@@ -431,7 +438,11 @@ class _Fn:
 
     def residual_and_jacobian(self, z):
         self.counter.n += 1
-        r, j = self.fn(z, *self.params)
+        try:
+            r, j = self.fn(z, *self.params)
+        except RuntimeError as exc:  # CasADi: an evaluation failed (a kernel step not defined there)
+            raise NotConvergedError(f"{self.fn.name()} could not be evaluated here",
+                                    y=np.asarray(z, float).ravel()) from exc
         r, j = np.array(r).ravel(), np.array(j)
         if np.all(np.isfinite(r)) and (not np.all(np.isfinite(j)) or
                                        (self.degenerate is not None and self.degenerate(np.asarray(z, float)))):
@@ -684,6 +695,32 @@ def locate_im(pb: _Problems, y0: np.ndarray, tol: Tolerances = DEFAULT) -> np.nd
         if not (closes and pb.tests(y)["im"] <= tol.event_threshold):
             return None
     return y
+
+
+def _im_through_quadtree(pb: _Problems, a_c: np.ndarray, y_c: np.ndarray, cell: np.ndarray, box_d: np.ndarray,
+                         tol: Tolerances, stats: "RefineStats") -> np.ndarray | None:
+    """An IM configuration near the grid's IM-indicator minimum at ``a_c`` (config ``y_c``), through the quadtree.
+
+    The IM indicator (the relative ``σ_{F+1}``, §V) is positive, so it has no sign change to
+    bracket: the cells around the minimum are subdivided (:func:`symkin.workspace.quadtree.subdivide`
+    with the IM indicator as ``T``) down to the finest cell holding the smallest value, and
+    :func:`locate_im` starts from that cell's point (an IM point between grid points that the
+    coarse grid does not resolve, Fig. 14), then from the grid point itself.  The finest
+    points are tried nearest to zero first; the first located configuration is returned
+    (None when none is: the core decides afterwards whether it is IM).
+    """
+    def sample(a, y0):
+        y = pb.solve_square(a, y0)
+        return y, pb.tests(y)["im"]
+
+    sub = quadtree.subdivide(sample, a_c, y_c, pb.tests(y_c)["im"], cell, box_d[:, 0], box_d[:, 1])
+    stats.subdivided += sub.samples
+    starts = [y for _, y, _ in sorted(sub.dips, key=lambda d: pb.tests(d[1])["im"])] + [np.asarray(y_c, float)]
+    for y0 in starts:
+        y = locate_im(pb, y0, tol)
+        if y is not None:
+            return y
+    return None
 
 
 # ---------------------------------------------------------------------- tracing
@@ -1134,8 +1171,12 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         if qa is None:
             continue
         ya = qa / pb.scale
-        locate_and_take(KINDS, pa, pb_, lambda: locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)[:2],
+        # the grid pre-check against the boundary's kind only: a fold next to an interior curve of the
+        # other kind (the Delta's type-2 curve runs within a cell of its reach boundary) is still located
+        locate_and_take((boundary[0],), pa, pb_,
+                        lambda: locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)[:2],
                         NotConvergedError)
+    steps = np.array([abs(float(grid.xs[1] - grid.xs[0])) / scale[0], abs(float(grid.ys[1] - grid.ys[0])) / scale[1]])
     for j, i in _im_candidates(grid):
         before = pb.counter.n
         qa = grid.config(j, i)
@@ -1143,12 +1184,12 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         if ya is None:
             stats.failed += 1
             continue
-        y = locate_im(pb, ya, tol)
+        y = _im_through_quadtree(pb, dim_axes(j, i), ya, steps, box_d, tol, stats)
+        stats.locate_evaluations += pb.counter.n - before
         if y is None:
             stats.failed += 1
             continue
         stats.im_candidates += 1
-        stats.locate_evaluations += pb.counter.n - before
         _add_point(points, pb, sys_, y, mode, scale, tol, only_im=True)
     interior = _OTHER[boundary[0]]
     while seeds:
@@ -1158,7 +1199,6 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             continue
         stats.seeded += 1
         take(interior, y)
-    steps = np.array([abs(float(grid.xs[1] - grid.xs[0])) / scale[0], abs(float(grid.ys[1] - grid.ys[0])) / scale[1]])
 
     def refine_dip(kind, j, i):
         """Subdivide the cells around a dip of ``T`` (:mod:`symkin.workspace.quadtree`); locate and trace."""

@@ -1,6 +1,8 @@
 """Refinement to exact curves (symkin.workspace.loci) against closed forms of the five-bar."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -378,3 +380,66 @@ def test_im_candidates_are_strict_interior_minima():
     asm[2, 0] = False
     grid = GridData(np.arange(6.0), np.arange(5.0), asm, im, im, im_indicator=im)
     assert _im_candidates(grid) == [(2, 3)]
+
+
+# ----------------------------------------------------------------------------------- IM minima through the quadtree
+FIG14 = Path(__file__).resolve().parents[2] / "papers_examples" / "fig14_2rr.toml"
+
+
+@pytest.mark.parametrize("k", [1.0, 1000.0])  # model units, and the same model in millimetres
+def test_fig14_im_point_between_coarse_grid_points_found_through_the_quadtree(k):
+    """Fig. 14's 2RR (l = 5, coaxial pivots): a coarse 6 × 6 grid whose nodes miss the origin (the nearest,
+    the IM indicator's grid minimum, is (-1, 0.1), |P| = 1.005): it is too far for the rank-drop
+    refinement to reach the collapsed rhombus from it.  Subdividing the cells around the minimum (the IM
+    indicator as the quadtree's T) starts it from the finest cell instead: the IM point at the origin to
+    1e-9, IM with a DKP in the output, and (by the core) L = 3 > F = 2 there with the collapsed rhombus
+    B1 = −B2, |B_i| = 5 (the model file's derivation); the same in millimetres."""
+    import symkin
+    from symkin.workspace.grid import continue_mode
+
+    mech = symkin.read_model(FIG14).moved(scale=k)
+    s = map_system(mech, "velocity:P.x", "velocity:P.y")
+    xs, ys = k * np.linspace(-6.0, 6.5, 6), k * np.linspace(-1.5, 6.5, 6)
+    g = continue_mode(s, xs, ys, s.q0, keep_configurations=True)
+    assert g.assembled.all()
+    # the nearest grid node is (-1, 0.1), |P| = 1.005 (a fifth of the link): the grid does not resolve it
+    X, Y = np.meshgrid(xs, ys)
+    assert np.hypot(X, Y).min() > 1.0 * k
+    grid = GridData(xs, ys, g.assembled, g.dkp_input, g.dkp_output, g.im_indicator, q=g.q, seed=s.q0)
+    curves, points, stats = refine(s, grid)
+    im = [pt for pt in points if pt.kind == "IM"]
+    assert len(im) == 1, [pt.to_dict() for pt in points]
+    assert np.linalg.norm(im[0].at) <= 1e-9 * k
+    assert tuple(im[0].types) == ("IM", "DKP-output")
+    assert stats.subdivided > 0 and stats.failed == 0
+    ev = s.evaluators
+    b1, b2, p = (_nodes(ev, im[0].configuration[None], n)[0] for n in ("B1", "B2", "P"))
+    assert np.allclose(b1, -b2, atol=1e-9 * k) and abs(np.linalg.norm(b1) - 5.0 * k) <= 1e-9 * k
+    res = symkin.analyze(mech.with_coordinates({"B1": b1, "B2": b2, "P": p}))
+    assert (res.dof, res.mobility, res.types) == (3, 2, ("IM", "DKP-output"))
+
+
+def test_fig14_slope_at_the_collapsed_rhombus_is_not_converged_and_refine_completes():
+    """At the IM configuration (P = A = 0, B1 = −B2 = (0, 5)) the square position problem is singular, so
+    ∂T/∂n (a solve with its Jacobian) is not defined: a NotConvergedError that the dip refinement skips,
+    not CasADi's RuntimeError.  The coarse 5 × 5 grid below has a dip of DKP-output next to the origin whose
+    double-zero search reaches that configuration; refinement completes and subdivides the dip."""
+    import symkin
+    from symkin.errors import NotConvergedError
+    from symkin.workspace.grid import continue_mode
+    from symkin.workspace.loci import LocusSystem, _Problems
+
+    mech = symkin.read_model(FIG14)
+    s = map_system(mech, "velocity:P.x", "velocity:P.y")
+    pb = _Problems(LocusSystem.of(s))
+    ev = s.evaluators
+    q = {"x_B1": 0.0, "y_B1": 5.0, "x_B2": 0.0, "y_B2": -5.0, "x_P": 0.0, "y_P": 0.0}
+    y = np.array([q[k] for k in ev.q_labels]) / pb.scale
+    with pytest.raises(NotConvergedError):
+        pb.slope("DKP-output", y, np.array([1.0, 0.0]))
+    xs, ys = np.linspace(-6.0, 5.5, 5), np.linspace(-1.5, 6.5, 5)
+    g = continue_mode(s, xs, ys, s.q0, keep_configurations=True)
+    grid = GridData(xs, ys, g.assembled, g.dkp_input, g.dkp_output, g.im_indicator, q=g.q, seed=s.q0)
+    curves, points, stats = refine(s, grid)
+    assert stats.dips == 1 and stats.subdivided > 0
+    assert all("IM" in pt.types and np.linalg.norm(pt.at) <= 1e-9 for pt in points if pt.kind == "IM")

@@ -122,3 +122,38 @@ def test_delta_every_type2_point_on_the_grid_lines_is_near_a_traced_curve(delta_
     assert len(roots) >= 4
     for r in roots:
         assert min(_polyline_distance(np.array(r), c) for c in curves) < 0.05 * step, r
+
+
+@pytest.mark.slow
+def test_delta_traced_boundary_is_the_legs_reach_limit(delta_map):
+    """The mode's workspace boundary (no sign change on the grid: a fold between assembled and unassembled
+    neighbours) traced as DKP-output curves: every traced point on a leg's reach limit (truth.Delta's
+    reach margin min_i (1 − |K_i/ρ_i|) = 0, arm and bar in one line) to 1e-9; every reach-limit point on a
+    grid line between assembled and unassembled neighbours near a traced curve; and the core classifies a
+    traced point (its configuration from the closed form) as DKP-output, L = F = 3 (no IM)."""
+    m = delta_map.modes[0]
+    curves = [np.asarray(c.points) for c in delta_map.curves if c.kind == "DKP-output"]
+    assert len(curves) >= 1
+    pts = np.concatenate(curves)
+    assert len(pts) > 30
+    margins = np.array([DELTA.reach_margin([x, y, Z]) for x, y in pts])
+    assert np.abs(margins).max() < ON_LOCUS
+    xs, ys = delta_map.xs, delta_map.ys
+    step = xs[1] - xs[0]
+    limits = []
+    for j in range(len(ys)):
+        for i in range(len(xs) - 1):
+            if m.assembled[j, i] != m.assembled[j, i + 1]:
+                limits.append((T.bisect_root(lambda x: DELTA.reach_margin([x, ys[j], Z]), xs[i], xs[i + 1]), ys[j]))
+    for i in range(len(xs)):
+        for j in range(len(ys) - 1):
+            if m.assembled[j, i] != m.assembled[j + 1, i]:
+                limits.append((xs[i], T.bisect_root(lambda y: DELTA.reach_margin([xs[i], y, Z]), ys[j], ys[j + 1])))
+    assert len(limits) >= 20
+    for r in limits:
+        assert min(_polyline_distance(np.array(r), c) for c in curves) < 0.05 * step, r
+    # a traced point where the closed form assembles (margin >= 0), classified by the core
+    k = int(np.argmin(np.where(margins >= 0, margins, np.inf)))
+    mech = symkin.Mechanism.from_dict(DELTA.model(np.array([pts[k][0], pts[k][1], Z]), KNEE))
+    res = symkin.analyze(mech)
+    assert (res.types, res.dof, res.mobility) == (("DKP-output",), 3, 3)
