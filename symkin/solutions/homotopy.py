@@ -83,5 +83,7 @@ def track(equations, unknowns) -> np.ndarray:
     system.add_variable_group(bertini.VariableGroup(names))
     alg = bertini.nag_algorithm.ZeroDimCauchyDoublePrecisionTotalDegree(system)
     alg.solve()
-    return np.array([[complex(c) for c in v] for v in alg.solutions()], dtype=complex).reshape(
+    # a path that failed can come back as a vector of another length: it has no endpoint
+    ends = [[complex(c) for c in v] for v in alg.solutions()]
+    return np.array([v for v in ends if len(v) == len(unknowns) + 1], dtype=complex).reshape(
         -1, len(unknowns) + 1)
