@@ -244,24 +244,32 @@ def _output_coordinate(mech: Mechanism) -> InputCoordinate | None:
 
 # ---------------------------------------------------------------------- step 1: the square DKP systems
 def _real_roots(system: DkpSystem, tol: Tolerances) -> tuple[list[dict], int]:
-    """Distinct real solutions of the square system (configurations) and the number of paths tracked."""
-    ends = track(list(system.equations), list(system.unknowns))
+    """Distinct real solutions of the square systems (configurations) and the number of paths tracked.
+
+    One homotopy per factor of ``D`` (:meth:`DkpSystem.systems`); an endpoint is kept when
+    ``max |Im v| <= NEAR_REAL`` and Gauss–Newton on the real system from its real part reaches a
+    residual ``<= NEWTON_ACCEPT`` without moving more than ``NEAR_REAL``.
+    """
     closure = system.closure
     found: list[np.ndarray] = []
-    for v in ends:
-        h = v[0]
-        if abs(h) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
-            continue  # at infinity
-        w = v[1:] / h
-        if not np.all(np.isfinite(w)) or float(np.max(np.abs(w.imag), initial=0.0)) > NEAR_REAL:
-            continue
-        vr, res = polish(system, np.array(w.real, float))
-        if res > NEWTON_ACCEPT or float(np.max(np.abs(vr - w.real))) > NEAR_REAL:
-            continue  # a complex solution close to the real space, or a failed polish
-        u = closure.recover(vr)
-        if all(float(np.linalg.norm(u - f)) > tol.same_configuration for f in found):
-            found.append(u)
-    return [closure.coordinates(u) for u in found], int(len(ends))
+    paths = 0
+    for equations in system.systems():
+        ends = track(list(equations), list(system.unknowns))
+        paths += int(len(ends))
+        for v in ends:
+            h = v[0]
+            if abs(h) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
+                continue  # at infinity
+            w = v[1:] / h
+            if not np.all(np.isfinite(w)) or float(np.max(np.abs(w.imag), initial=0.0)) > NEAR_REAL:
+                continue
+            vr, res = polish(equations, system.unknowns, np.array(w.real, float))
+            if res > NEWTON_ACCEPT or float(np.max(np.abs(vr - w.real))) > NEAR_REAL:
+                continue  # a complex solution close to the real space, or a failed polish
+            u = closure.recover(vr)
+            if all(float(np.linalg.norm(u - f)) > tol.same_configuration for f in found):
+                found.append(u)
+    return [closure.coordinates(u) for u in found], paths
 
 
 # ---------------------------------------------------------------------- step 3: is a seed on a traced path?
@@ -386,7 +394,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     for name, c in systems:
         t0 = time.perf_counter()
         system = dkp_system(mech, c, tolerances, closure=closure, seed=seed)
-        paths = total_degree(list(system.equations), list(system.unknowns))
+        paths = sum(total_degree(list(e), list(system.unknowns)) for e in system.systems())
         if paths > max_paths:
             raise SymkinError(f"{mech.name}: the square {name} system has total degree {paths}, more than "
                               f"max_paths = {max_paths}; raise max_paths to track it")

@@ -20,7 +20,6 @@ with those located along the traced circuits.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,25 +33,38 @@ from symkin.paths.coordinates import InputCoordinate, _axis_angle_setup, _pair
 from symkin.solutions.system import PolynomialSystem, _Builder, closure_system, recover_jacobian
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["DkpSystem", "dkp_system", "rate_row"]
+__all__ = ["DkpSystem", "block_triangular", "dkp_system", "polish", "rate_row"]
 
 
 @dataclass(frozen=True, eq=False)
 class DkpSystem:
     """``closure + D = 0`` for one parameter (see the module docstring).
 
-    ``equations`` are sympy expressions in ``unknowns`` (= ``closure.solve_for``), the closure's
-    reduced equations followed by ``D``; ``degree`` is the total degree of ``D``.  ``squared``
-    tells that the closure had redundant equations, squared up by random combinations before
-    ``D`` was formed (its extra roots are then filtered by the caller).
+    ``curve`` are the closure's reduced equations in ``unknowns`` (= ``closure.solve_for``);
+    ``factors`` the determinants of the diagonal blocks of the block-triangular form of
+    ``[∂R/∂v; p N]`` (its Dulmage–Mendelsohn decomposition: ``D = ± ∏ factors``, so that a
+    Watt six-bar's ``D`` splits into one factor per loop and the homotopy tracks far fewer
+    paths); :meth:`systems` the square systems ``curve + [factor]``.  ``degree`` is the total
+    degree of ``D``.  ``squared`` tells that the closure had redundant equations, squared up
+    by random combinations before ``D`` was formed (its extra roots are filtered by the caller).
     """
 
     closure: PolynomialSystem
     coordinate: InputCoordinate
-    equations: tuple
+    curve: tuple
+    factors: tuple
     unknowns: tuple
     degree: int
     squared: bool
+
+    @property
+    def equations(self) -> tuple:
+        """``curve`` followed by the product of the factors (``D`` up to its sign)."""
+        return self.curve + (sp.expand(sp.prod(self.factors)),)
+
+    def systems(self) -> list[tuple]:
+        """One square system ``curve + (factor,)`` per factor."""
+        return [self.curve + (f,) for f in self.factors]
 
 
 def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> list:
@@ -106,8 +118,7 @@ def _determinant(rows: list[list], gens: list):
     ``2ⁿ`` sub-determinants at most, in sympy's sparse polynomial ring over floats.
     """
     n = len(rows)
-    r, *syms = ring([str(g) for g in gens], RR)
-    to = dict(zip(gens, syms))
+    r, *_ = ring([str(g) for g in gens], RR)
     polys = [[r(0) if e == 0 else r.from_expr(sp.sympify(e).xreplace({g: sp.Symbol(str(g)) for g in gens}))
               for e in row] for row in rows]
     memo: dict[int, object] = {}
@@ -126,7 +137,6 @@ def _determinant(rows: list[list], gens: list):
         memo[used] = total
         return total
 
-    del to
     return rec(0, 0).as_expr().xreplace({sp.Symbol(str(g)): g for g in gens})
 
 
@@ -164,17 +174,55 @@ def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | No
     row_v = [sp.expand(sum((float(n[i, j]) * row_u[i].xreplace(sub) for i in range(len(row_u)) if n[i, j] != 0),
                            sp.Integer(0))) for j in range(len(v))]
     jac = sp.Matrix(eqs).jacobian(v).tolist() if eqs else []
-    det = sp.expand(_determinant(jac + [row_v], v))
-    if det == 0 or not det.free_symbols:
+    factors = []
+    for block in block_triangular(jac + [row_v]):
+        rows = [[(jac + [row_v])[i][j] for j in block[1]] for i in block[0]]
+        det = sp.expand(_determinant(rows, v))
+        if det == 0:
+            raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is identically zero on the "
+                              "configuration space (a structurally singular velocity equation)")
+        if det.free_symbols:
+            factors.append(det)
+    if not factors:
         raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is constant on the configuration "
-                          "space (the parameter is locked or never singular): no square system")
-    degree = int(sp.Poly(det, *v).total_degree())
-    return DkpSystem(closure, c, tuple(eqs) + (det,), tuple(v), degree, squared)
+                          "space (the parameter is never singular): no square system")
+    degree = sum(int(sp.Poly(f, *v).total_degree()) for f in factors)
+    return DkpSystem(closure, c, tuple(eqs), tuple(factors), tuple(v), degree, squared)
 
 
-def polish(system: DkpSystem, v: np.ndarray, max_iterations: int = 40) -> tuple[np.ndarray, float]:
-    """Gauss–Newton on the square system from ``v``; returns the point and its largest residual."""
-    f, j = _compiled(system)
+def block_triangular(rows: list[list]) -> list[tuple[list[int], list[int]]]:
+    """Diagonal blocks ``(rows, columns)`` of the block-triangular form of a square sparse matrix.
+
+    A perfect matching of rows to columns (:func:`scipy.sparse.csgraph.maximum_bipartite_matching`)
+    and the strongly connected components of the row graph it induces (Dulmage–Mendelsohn):
+    the determinant is, up to its sign, the product of the blocks' determinants.  A
+    structurally singular matrix (no perfect matching) is one block.
+    """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components, maximum_bipartite_matching
+
+    n = len(rows)
+    pattern = csr_matrix(np.array([[1 if e != 0 else 0 for e in r] for r in rows], dtype=np.int8))
+    match = maximum_bipartite_matching(pattern, perm_type="column")
+    if np.any(match < 0):
+        return [(list(range(n)), list(range(n)))]
+    row_of = {int(match[i]): i for i in range(n)}
+    graph = np.zeros((n, n), dtype=np.int8)
+    for i in range(n):
+        for j in range(n):
+            if rows[i][j] != 0:
+                graph[i, row_of[j]] = 1
+    count, label = connected_components(csr_matrix(graph), directed=True, connection="strong")
+    blocks = []
+    for k in range(count):
+        ri = [i for i in range(n) if label[i] == k]
+        blocks.append((ri, [int(match[i]) for i in ri]))
+    return blocks
+
+
+def polish(equations: tuple, unknowns: tuple, v: np.ndarray, max_iterations: int = 40) -> tuple[np.ndarray, float]:
+    """Gauss–Newton on the square system ``equations = 0`` from ``v``; returns the point and its largest residual."""
+    f, j = _compiled(equations, unknowns)
     best_v, best = v, float(np.max(np.abs(f(v))))
     for _ in range(max_iterations):
         r = f(v)
@@ -191,20 +239,9 @@ def polish(system: DkpSystem, v: np.ndarray, max_iterations: int = 40) -> tuple[
     return (v, res) if res <= best else (best_v, best)
 
 
-_CACHE: dict[int, tuple] = {}
-
-
-def _compiled(system: DkpSystem):
-    key = id(system)
-    if key not in _CACHE:
-        u = list(system.unknowns)
-        f = sp.lambdify([u], list(system.equations), "numpy")
-        jj = sp.lambdify([u], sp.Matrix(system.equations).jacobian(u), "numpy")
-        _CACHE[key] = (system, lambda x: np.array(f(x), float).ravel(),
-                       lambda x: np.array(jj(x), float).reshape(len(u), len(u)))
-    return _CACHE[key][1:]
-
-
-def angle_distance(a: float, b: float) -> float:
-    """|a − b| on the circle (radians)."""
-    return abs(math.remainder(a - b, 2 * math.pi))
+def _compiled(equations: tuple, unknowns: tuple):
+    u = list(unknowns)
+    f = sp.lambdify([u], list(equations), "numpy")
+    jj = sp.lambdify([u], sp.Matrix(equations).jacobian(u), "numpy")
+    return (lambda x: np.array(f(x), float).ravel(),
+            lambda x: np.array(jj(x), float).reshape(len(u), len(u)))
