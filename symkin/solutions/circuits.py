@@ -54,7 +54,7 @@ from symkin.solutions.solve_all import NEWTON_ACCEPT, solve_all
 from symkin.solutions.system import closure_system
 from symkin.tolerances import Tolerances
 
-__all__ = ["Circuit", "CrossCheck", "SingularConfiguration", "Singularities", "SingularitiesWarning",
+__all__ = ["Branch", "Circuit", "CrossCheck", "SingularConfiguration", "Singularities", "SingularitiesWarning",
            "singularities"]
 
 #: largest input change per continuation step of a circuit (radians), so that the plot is smooth
@@ -80,7 +80,11 @@ class SingularConfiguration:
     dof : int
         Instantaneous DOF ``L`` (``analyze``).
     circuit : int
-        The first circuit (numbered from 1) it lies on; ``circuits`` lists them all.
+        The circuit (connected component, numbered from 1) it lies on.
+    branches : tuple of int
+        The traced branches (numbered from 1 over all circuits) that pass through it; ``passes``
+        counts the passes (2 at a branch point where a circuit crosses itself, as at the
+        change point of a four-bar).
     input, output : float
         The input and output coordinates, measured from the model's configuration
         (angles in ``unit``, in (−180°, 180°] / (−π, π]; lengths in model units); output None without one.
@@ -92,7 +96,8 @@ class SingularConfiguration:
     types: tuple
     dof: int
     circuit: int
-    circuits: tuple
+    branches: tuple
+    passes: int
     input: float
     output: float | None
     kinds: tuple
@@ -101,12 +106,12 @@ class SingularConfiguration:
     def to_dict(self) -> dict:
         return {"configuration": {n: list(x) for n, x in self.configuration.items()}, "types": list(self.types),
                 "circuit": self.circuit, "input": self.input, "output": self.output, "dof": self.dof,
-                "circuits": list(self.circuits), "kinds": list(self.kinds)}
+                "branches": list(self.branches), "passes": self.passes, "kinds": list(self.kinds)}
 
 
 @dataclass(frozen=True)
-class Circuit:
-    """One traced circuit: its seed, its points in input–output space and how its trace ended.
+class Branch:
+    """One traced loop: its seed, its points in input–output space and how its trace ended.
 
     ``inputs`` / ``outputs`` are unwrapped along the trace (radians or model units, measured from
     the model's configuration); ``full_turn`` says that the input takes every value (a crank).
@@ -122,10 +127,33 @@ class Circuit:
     path: Path | None = field(default=None, repr=False, compare=False)
 
     def to_dict(self, conv: float) -> dict:
-        return {"circuit": self.index, "closed": self.closed, "full_turn": self.full_turn,
+        return {"branch": self.index, "closed": self.closed, "full_turn": self.full_turn,
                 "stop_reason": self.stop_reason, "points": int(len(self.inputs)),
                 "input_range": [float(np.min(self.inputs)) * conv, float(np.max(self.inputs)) * conv],
                 "seed": {n: list(x) for n, x in self.seed.items()}}
+
+
+@dataclass(frozen=True)
+class Circuit:
+    """A connected component of the configuration curve: its traced branches (usually one).
+
+    Branches that share a configuration (a branch point, IM) are one circuit.
+    """
+
+    index: int
+    branches: tuple[Branch, ...]
+
+    @property
+    def closed(self) -> bool:
+        return all(b.closed for b in self.branches)
+
+    @property
+    def full_turn(self) -> bool:
+        return any(b.full_turn for b in self.branches)
+
+    def to_dict(self, conv: float) -> dict:
+        return {"circuit": self.index, "closed": self.closed, "full_turn": self.full_turn,
+                "branches": [b.to_dict(conv) for b in self.branches]}
 
 
 @dataclass(frozen=True)
@@ -254,7 +282,7 @@ def _real_roots(system: DkpSystem, tol: Tolerances) -> tuple[list[dict], int]:
     found: list[np.ndarray] = []
     paths = 0
     for equations in system.systems():
-        ends = track(list(equations), list(system.unknowns))
+        ends = track(list(equations), list(system.unknowns), endgame="power_series")
         paths += int(len(ends))
         for v in ends:
             h = v[0]
@@ -426,31 +454,32 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         offset = in_value(_flat(mech, conf))
         circuits.append((path, offset, _points(path, offset)))
         if path.stop_reason not in ("closed", "unreachable"):
-            notes.append(f"circuit {len(circuits)} (seed at {drive.label} = {_fmt(value, kind, unit)}) did not "
+            notes.append(f"branch {len(circuits)} (seed at {drive.label} = {_fmt(value, kind, unit)}) did not "
                          f"close: {path.message}")
 
-    # 4. singular configurations on the circuits, merged across circuits
+    # 4. singular configurations on the branches, merged; branches through one configuration are one circuit
     entries: list[dict] = []
     for index, (path, _, _) in enumerate(circuits, 1):
         for e in path.singular_events():
             q = _free(mech, e.coordinates)
             for item in entries:
                 if np.linalg.norm(item["q"] - q) <= tolerances.same_configuration * scale:
-                    if index not in item["circuits"]:
-                        item["circuits"].append(index)
+                    item["branches"].append(index)
                     item["kinds"] += [k for k in e.kinds if k not in item["kinds"]]
                     break
             else:
-                entries.append({"q": q, "x": e.coordinates, "circuits": [index], "kinds": list(e.kinds),
+                entries.append({"q": q, "x": e.coordinates, "branches": [index], "kinds": list(e.kinds),
                                 "analysis": e.analysis})
+    component = _components(len(circuits), [item["branches"] for item in entries])
     conv = 180.0 / math.pi if (unit == "deg" and kind == "angle") else 1.0
     out_conv = 180.0 / math.pi if (output is not None and unit == "deg" and output.kind == "angle") else 1.0
     result_sing = []
-    for item in sorted(entries, key=lambda it: (it["circuits"][0], _wrap(in_value(it["x"]), kind))):
+    for item in sorted(entries, key=lambda it: (component[it["branches"][0]], _wrap(in_value(it["x"]), kind))):
         a = item["analysis"]
         result_sing.append(SingularConfiguration(
-            _as_dict(mech, item["x"]), tuple(a.types) if a else (), a.dof if a else -1, item["circuits"][0],
-            tuple(item["circuits"]), _wrap(in_value(item["x"]), kind) * conv,
+            _as_dict(mech, item["x"]), tuple(a.types) if a else (), a.dof if a else -1,
+            component[item["branches"][0]], tuple(sorted(set(item["branches"]))), len(item["branches"]),
+            _wrap(in_value(item["x"]), kind) * conv,
             None if out_value is None else _wrap(out_value(item["x"]), output.kind) * out_conv,
             tuple(item["kinds"]), a))
 
@@ -468,17 +497,43 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
             notes.append(msg)
             warnings.warn(msg, SingularitiesWarning, stacklevel=2)
 
-    circuit_objs = []
+    branches = []
     for index, (path, offset, ins) in enumerate(circuits, 1):
         outs = None if out_value is None else np.unwrap([out_value(p.coordinates) for p in path.points]) \
             if output.kind == "angle" else np.array([out_value(p.coordinates) for p in path.points])
         span = float(np.max(ins) - np.min(ins)) if ins.size else 0.0
         closed = path.stop_reason in ("closed", "unreachable")
-        circuit_objs.append(Circuit(index, _as_dict(mech, path.points[0].coordinates), ins, outs, closed,
-                                    kind == "angle" and span >= 2 * math.pi - 1e-9, path.stop_reason, path))
+        branches.append(Branch(index, _as_dict(mech, path.points[0].coordinates), ins, outs, closed,
+                               kind == "angle" and span >= 2 * math.pi - 1e-9, path.stop_reason, path))
+    circuit_objs = [Circuit(k, tuple(b for b in branches if component[b.index] == k))
+                    for k in sorted(set(component.values()))]
     return Singularities(mech, drive.label, None if output is None else output.label, unit, kind,
                          tuple(circuit_objs), tuple(result_sing), tuple(checks), tuple(samples), len(seeds),
                          tuple(notes), time.perf_counter() - start)
+
+
+def _components(n: int, groups: list[list[int]]) -> dict[int, int]:
+    """Branch (1..n) → circuit number (from 1, in order of the first branch): branches in one group are one circuit.
+
+    >>> _components(3, [[1], [2, 3]])
+    {1: 1, 2: 2, 3: 2}
+    """
+    parent = list(range(n + 1))
+
+    def find(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for g in groups:
+        for other in g[1:]:
+            parent[find(other)] = find(g[0])
+    numbers: dict[int, int] = {}
+    out = {}
+    for i in range(1, n + 1):
+        out[i] = numbers.setdefault(find(i), len(numbers) + 1)
+    return out
 
 
 def _flat(mech: Mechanism, conf: dict) -> np.ndarray:
@@ -496,7 +551,7 @@ def _samples(critical: list[float], kind: str) -> list[float]:
     if not critical:
         return [0.0]
     if len(critical) == 1:
-        return [_wrap(critical[0] + math.pi, kind)] if kind == "angle" else [critical[0]]
+        return [_wrap(critical[0] + math.pi, kind)] if kind == "angle" else [0.0]
     mids = [0.5 * (a + b) for a, b in zip(critical, critical[1:])]
     if kind == "angle":
         mids.append(_wrap(0.5 * (critical[-1] + critical[0] + 2 * math.pi), kind))
