@@ -82,14 +82,16 @@ class SingularConfiguration:
     circuit : int
         The circuit (connected component, numbered from 1) it lies on.
     branches : tuple of int
-        The traced branches (numbered from 1 over all circuits) that pass through it; ``passes``
-        counts the passes (2 at a branch point where a circuit crosses itself, as at the
-        change point of a four-bar).
+        The traced branches (numbered from 1 over all circuits) that pass through it (two
+        at a branch point where two traced branches cross; one branch that crosses itself
+        there, as at the change point of a four-bar, is located once).
     input, output : float
         The input and output coordinates, measured from the model's configuration
         (angles in ``unit``, in (−180°, 180°] / (−π, π]; lengths in model units); output None without one.
     kinds : tuple of str
         The trace's test functions that located it.
+    arclength : float
+        Its arclength along the first branch that located it (for a plot without an output).
     """
 
     configuration: dict
@@ -97,16 +99,16 @@ class SingularConfiguration:
     dof: int
     circuit: int
     branches: tuple
-    passes: int
     input: float
     output: float | None
     kinds: tuple
+    arclength: float = field(default=0.0, compare=False)
     analysis: Analysis | None = field(default=None, compare=False, repr=False)
 
     def to_dict(self) -> dict:
         return {"configuration": {n: list(x) for n, x in self.configuration.items()}, "types": list(self.types),
                 "circuit": self.circuit, "input": self.input, "output": self.output, "dof": self.dof,
-                "branches": list(self.branches), "passes": self.passes, "kinds": list(self.kinds)}
+                "branches": list(self.branches), "kinds": list(self.kinds)}
 
 
 @dataclass(frozen=True)
@@ -469,7 +471,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
                     break
             else:
                 entries.append({"q": q, "x": e.coordinates, "branches": [index], "kinds": list(e.kinds),
-                                "analysis": e.analysis})
+                                "analysis": e.analysis, "s": e.s})
     component = _components(len(circuits), [item["branches"] for item in entries])
     conv = 180.0 / math.pi if (unit == "deg" and kind == "angle") else 1.0
     out_conv = 180.0 / math.pi if (output is not None and unit == "deg" and output.kind == "angle") else 1.0
@@ -478,10 +480,10 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         a = item["analysis"]
         result_sing.append(SingularConfiguration(
             _as_dict(mech, item["x"]), tuple(a.types) if a else (), a.dof if a else -1,
-            component[item["branches"][0]], tuple(sorted(set(item["branches"]))), len(item["branches"]),
+            component[item["branches"][0]], tuple(sorted(set(item["branches"]))),
             _wrap(in_value(item["x"]), kind) * conv,
             None if out_value is None else _wrap(out_value(item["x"]), output.kind) * out_conv,
-            tuple(item["kinds"]), a))
+            tuple(item["kinds"]), item["s"], a))
 
     # 5. cross-check
     checks = []
