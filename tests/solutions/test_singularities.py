@@ -317,3 +317,23 @@ def test_millimetres_and_metres_give_the_same_answer():
     assert len(a.circuits) == len(b.circuits) == 2
     assert [s.types for s in a.singularities] == [s.types for s in b.singularities]
     assert np.allclose([s.input for s in a.singularities], [s.input for s in b.singularities], atol=1e-9)
+
+
+@pytest.mark.slow
+def test_a_disagreement_is_a_field_and_a_warning(monkeypatch):
+    import symkin.solutions.circuits as circuits
+
+    real = circuits._real_roots
+
+    def one_more(system, tol):  # a root that no traced circuit passes through
+        found, paths = real(system, tol)
+        fake = {n: list(x) for n, x in system.closure.mechanism.coordinates().items()}
+        return found + [fake], paths
+
+    monkeypatch.setattr(circuits, "_real_roots", one_more)
+    with pytest.warns(circuits.SingularitiesWarning, match="only by the homotopy"):
+        r = singularities(catalogue.get("fourbar_appendix"))
+    assert r.agree is False and r.to_dict()["agree"] is False
+    for ch in r.checks:
+        assert ch.homotopy == ch.traced + 1 and len(ch.unmatched_homotopy) == 1 and not ch.unmatched_traced
+    assert any("only by the homotopy" in w for w in r.warnings)
