@@ -14,15 +14,18 @@ on the paths it simulates; this module makes the search global:
    critical input values (and at the model's input value when there is no critical
    value): every circuit on which the input moves contains one of them, since on a circuit
    the input either takes every value or sweeps an interval between two critical values.
-3. **Circuits.**  Each seed not yet on a circuit is traced by :func:`symkin.trace` (the
+3. **Branches.**  Each seed not yet on a traced branch is traced by :func:`symkin.trace` (the
    existing pseudo-arclength continuation with its event location) until the path closes
-   on itself; a seed is on a traced circuit when the path passes through it: the crossing
+   on itself; a seed is on a traced branch when the path passes through it: the crossing
    of its input value is located on the path (:func:`~symkin.paths.events.locate_sign_change`)
    and is within :attr:`Tolerances.same_configuration` (units of the length scale) of it.
-4. **Singular configurations.**  Every event that the traces locate (DKP-input,
+4. **Singular configurations and circuits.**  Every event that the traces locate (DKP-input,
    DKP-output, IM), classified by :func:`symkin.analyze`; one configuration met by several
-   circuits (the branch point where the circuits of a change-point four-bar cross) is one
-   entry with all its circuits.
+   branches is one entry.  Branches that share a configuration (a branch point, IM) are one
+   circuit: a circuit is a connected component.  At the change point of a four-bar
+   (``s + l = p + q``) the continuation goes straight through the flat IM configuration, so
+   its one branch turns the crank twice (once in each assembly mode) and crosses itself
+   there: one circuit, where the Grashof four-bars on either side have two or one.
 5. **Cross-check.**  The real solutions of step 1 must be exactly the traced configurations
    of the kinds they detect (DKP-input or IM; DKP-output or IM), each matched within
    ``same_configuration``.  Both counts are reported; a disagreement is a field
