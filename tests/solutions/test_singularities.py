@@ -159,9 +159,14 @@ def test_fourbar_crank_of_a_crank_rocker_turns_fully_on_both_circuits(results):
     assert [c.full_turn for c in r.circuits] == [True, True]
     # the two circuits are the two assembly modes: at the seed input, one solve_all solution on each
     assert r.seeds == 2
-    # the DKP-output configurations of each circuit are the mirror images of the other's (C below / above AD)
-    ys = sorted(np.sign(s.configuration["C"][1]) for s in r.singularities if s.circuit == 1)
-    assert len(set(ys)) in (1, 2)
+    # the ground line A-D is the x axis: the mirror image of a circuit is the other circuit
+    def mirrored(s):
+        return np.concatenate([[q[0], -q[1]] for q in (s.configuration["B"], s.configuration["C"])])
+    one = [s for s in r.singularities if s.circuit == 1]
+    two = [np.concatenate([s.configuration["B"], s.configuration["C"]]) for s in r.singularities if s.circuit == 2]
+    assert len(one) == len(two) == 2
+    for s in one:
+        assert min(float(np.max(np.abs(mirrored(s) - q))) for q in two) <= TOL
 
 
 @pytest.mark.slow
