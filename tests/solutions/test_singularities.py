@@ -19,7 +19,6 @@ import pytest
 from symkin import Mechanism, SymkinError
 from symkin.cli import main
 from symkin.model import catalogue
-from symkin.model.model_file import read_model
 from tests.conftest import EXAMPLES
 
 pytest.importorskip("bertini", reason="the homotopy solver is the optional extra symkin[global] "
