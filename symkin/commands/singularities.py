@@ -21,8 +21,8 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", default=None,
                    help="write the circuits in input-output space with every singular configuration numbered")
-    p.add_argument("--max-paths", type=int, default=5000,
-                   help="refuse a homotopy of more paths than this (default 5000)")
+    p.add_argument("--max-paths", type=int, default=None,
+                   help="refuse a square DKP system whose homotopy tracks more paths than this (default 600)")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the events and their classification (default 1e-8)")
 
@@ -61,7 +61,8 @@ def run(args) -> Output:
 
         require_matplotlib("--plot")
     try:
-        result = singularities(mech, tol=args.tol, unit=args.unit, max_paths=args.max_paths)
+        options = {} if args.max_paths is None else {"max_paths": args.max_paths}
+        result = singularities(mech, tol=args.tol, unit=args.unit, **options)
     except SymkinError as exc:
         raise _in_file(exc, args.model)
     message = ""

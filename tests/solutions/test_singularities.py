@@ -341,3 +341,17 @@ def test_a_disagreement_is_a_field_and_a_warning(monkeypatch):
     for ch in r.checks:
         assert ch.homotopy == ch.traced + 1 and len(ch.unmatched_homotopy) == 1 and not ch.unmatched_traced
     assert any("only by the homotopy" in w for w in r.warnings)
+
+
+@pytest.mark.slow
+def test_double_butterfly_beyond_max_paths_is_a_clear_error(capsys):
+    """The double butterfly's DKP-input determinant has a factor of degree 6 (768 paths): refused, not a wait."""
+    from symkin.model.model_file import read_model
+    from symkin.solutions.circuits import MAX_PATHS
+
+    with pytest.raises(SymkinError, match=r"768 paths.*max_paths = 600"):
+        singularities(read_model(EXAMPLES / "double_butterfly.toml"))
+    assert MAX_PATHS == 600
+    assert main(["singularities", str(EXAMPLES / "double_butterfly.toml")]) == 2
+    err = capsys.readouterr().err
+    assert "double_butterfly.toml" in err and "--max-paths" in err and "Traceback" not in err
