@@ -1,12 +1,18 @@
-"""Benchmark of ``symkin.solve_all`` (issue 9 §1), run on demand — not a test.
+"""Benchmark of ``symkin.solve_all`` (issue 9 §1) and ``symkin singularities`` (§2), run on demand — not a test.
 
-    PYTHONPATH=$PWD /work/venv/bin/python benchmarks/bench_solve_all.py [--repeat R]
+    PYTHONPATH=$PWD /work/venv/bin/python benchmarks/bench_solve_all.py [--repeat R] [--only solve_all|singularities]
 
 For each example of the truth tests (``tests/solutions/test_solve_all.py``) it prints the
 wall time of ``solve_all`` (best of R, the evaluators already built once), the time of the
 homotopy alone, the system given to the solver (unknowns after elimination, equations before
 squaring up), the paths tracked and the real / complex / at-infinity counts.  Needs the extra
 ``symkin[global]``.
+
+The second table times ``symkin.singularities`` (the command's work, without printing) on the
+appendix four-bar (a Grashof crank-rocker) and the catalogue's Watt II six-bar: total seconds,
+the seconds of the square DKP systems' homotopies, their paths, the circuits, the singular
+configurations and whether the cross-check agrees.  Bertini starts each homotopy with random
+constants, so the times vary from run to run: the best and the worst of R are printed.
 """
 from __future__ import annotations
 
@@ -38,14 +44,40 @@ def examples():
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--only", choices=("solve_all", "singularities"), default=None)
     args = ap.parse_args()
+    if args.only != "singularities":
+        bench_solve_all(args.repeat)
+    if args.only != "solve_all":
+        bench_singularities(args.repeat)
+
+
+def bench_singularities(repeat: int) -> None:
+    from symkin.solutions.circuits import singularities
+
+    print(f"\n{'singularities':45s} {'best s':>7s} {'worst s':>8s} {'hom s':>6s} {'paths':>6s} {'circ':>5s} "
+          f"{'sing':>5s} {'agree':>6s}")
+    for name in ("fourbar_appendix", "watt_sixbar"):
+        m = catalogue.get(name)
+        times, r = [], None
+        for _ in range(repeat):
+            t = time.perf_counter()
+            r = singularities(m)
+            times.append(time.perf_counter() - t)
+        hom = sum(c.seconds for c in r.checks)
+        paths = sum(c.paths for c in r.checks)
+        print(f"{name:45s} {min(times):7.2f} {max(times):8.2f} {hom:6.2f} {paths:6d} {len(r.circuits):5d} "
+              f"{len(r.singularities):5d} {str(r.agree):>6s}")
+
+
+def bench_solve_all(repeat: int) -> None:
     print(f"{'example':45s} {'s':>7s} {'track s':>8s} {'unk':>4s} {'eq':>3s} {'paths':>6s} "
           f"{'real':>5s} {'cplx':>5s} {'inf':>4s}")
     for name, m, values, unit in examples():
         first = time.perf_counter()
         r = solve_all(m, values, unit=unit)
         first = time.perf_counter() - first
-        best, track = min(_timed(m, values, unit) for _ in range(args.repeat))
+        best, track = min(_timed(m, values, unit) for _ in range(repeat))
         print(f"{name:45s} {best:7.3f} {track:8.3f} {r.unknowns:4d} {r.equations:3d} {r.paths:6d} "
               f"{len(r.solutions):5d} {r.complex:5d} {r.at_infinity:4d}   (first call {first:.2f} s)")
 

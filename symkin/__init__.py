@@ -69,12 +69,24 @@ def solve_all(mechanism, *args, **kwargs):
     return _solve_all(mechanism, *args, **kwargs)
 
 
+def singularities(mechanism, *args, **kwargs):
+    """Every circuit and singular configuration of a 1-DOF mechanism: see :func:`symkin.solutions.circuits.singularities`.
+
+    Needs the optional extra ``symkin[global]`` (Bertini 2, GPL-3); without it a
+    :class:`SymkinError` names the extra.
+    """
+    from symkin.solutions.circuits import singularities as _singularities
+
+    return _singularities(mechanism, *args, **kwargs)
+
+
 from symkin.tolerances import Tolerances
 
 __version__ = "0.1.0"
 
 __all__ = ["Analysis", "Evaluators", "Mechanism", "ModelError", "ModelFileError", "Motion", "MotionSpace",
            "NotConvergedError", "Parameter", "Relation", "Slider", "SymkinError", "Tolerances",
-           "analyze", "trace", "solve_all", "catalogue", "evaluators", "symbolic_model", "implicit_loci", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
+           "analyze", "trace", "solve_all", "singularities", "catalogue", "evaluators", "symbolic_model",
+           "implicit_loci", "geometric_matrix", "motion_space", "read_model", "render_text", "report",
            "write_model", "workspace_map", "load_map",
            "__version__"]

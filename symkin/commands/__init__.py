@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 __all__ = ["COMMANDS", "Output"]
 
-COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "conditions", "codegen"]
+COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen"]
 
 
 @dataclass(frozen=True)

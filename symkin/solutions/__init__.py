@@ -3,9 +3,14 @@
 :mod:`~symkin.solutions.system` builds the polynomial system from the model data,
 :mod:`~symkin.solutions.homotopy` tracks it with Bertini 2 (the optional extra
 ``symkin[global]``, imported only when used), :mod:`~symkin.solutions.solve_all` refines,
-verifies and labels the real solutions (``symkin.solve_all``).
+verifies and labels the real solutions (``symkin.solve_all``);
+:mod:`~symkin.solutions.dkp_system` builds the square systems "closure + DKP test function = 0" and
+:mod:`~symkin.solutions.circuits` finds every circuit and singular configuration of a 1-DOF
+mechanism (``symkin.singularities``).
 """
 from symkin.solutions.solve_all import Solution, Solutions, solve_all
-from symkin.solutions.system import PolynomialSystem, position_system
+from symkin.solutions.system import PolynomialSystem, closure_system, position_system
+from symkin.solutions.circuits import Singularities, singularities
 
-__all__ = ["PolynomialSystem", "Solution", "Solutions", "position_system", "solve_all"]
+__all__ = ["PolynomialSystem", "Singularities", "Solution", "Solutions", "closure_system", "position_system",
+           "singularities", "solve_all"]

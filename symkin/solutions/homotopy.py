@@ -66,8 +66,17 @@ def _to_bertini(bertini, poly: sp.Poly, variables):
     return expr
 
 
-def track(equations, unknowns) -> np.ndarray:
+ENDGAMES = {"cauchy": "ZeroDimCauchyDoublePrecisionTotalDegree",
+            "power_series": "ZeroDimPowerSeriesDoublePrecisionTotalDegree"}
+
+
+def track(equations, unknowns, endgame: str = "cauchy") -> np.ndarray:
     """Every endpoint of the total-degree homotopy for the square system ``equations = 0``.
+
+    ``endgame`` is Bertini's Cauchy (default) or power-series endgame; the power-series one
+    stops the paths that diverge (most paths of a system whose Bézout number far exceeds its
+    finite solutions, e.g. :mod:`symkin.solutions.dkp_system`) much sooner, leaving them as
+    large affine points that the caller's Newton check rejects.
 
     Returns a complex (paths, n + 1) array of projective endpoints: column 0 is the
     homogenising coordinate (near 0 for a path that diverges to infinity), the affine
@@ -81,7 +90,9 @@ def track(equations, unknowns) -> np.ndarray:
     for e in equations:
         system.add_function(_to_bertini(bertini, sp.Poly(e, *unknowns), names))
     system.add_variable_group(bertini.VariableGroup(names))
-    alg = bertini.nag_algorithm.ZeroDimCauchyDoublePrecisionTotalDegree(system)
+    alg = getattr(bertini.nag_algorithm, ENDGAMES[endgame])(system)
     alg.solve()
-    return np.array([[complex(c) for c in v] for v in alg.solutions()], dtype=complex).reshape(
+    # a path that failed can come back as a vector of another length: it has no endpoint
+    ends = [[complex(c) for c in v] for v in alg.solutions()]
+    return np.array([v for v in ends if len(v) == len(unknowns) + 1], dtype=complex).reshape(
         -1, len(unknowns) + 1)

@@ -47,7 +47,7 @@ from symkin.model.mechanism import AXES, Mechanism
 from symkin.paths.coordinates import InputCoordinate, _axis_angle_setup, _pair, parse_input_label
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["PolynomialSystem", "position_system", "prescribed_coordinates"]
+__all__ = ["PolynomialSystem", "closure_system", "position_system", "prescribed_coordinates", "recover_jacobian"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -543,3 +543,50 @@ def _eliminate_linear(linear, unknowns, tol: Tolerances):
     for k, s in enumerate(piv):
         solution[s] = float(const[k]) + sum((float(coef[k, j]) * t for j, t in enumerate(rest)), sp.Integer(0))
     return piv, solution
+
+
+def closure_system(mech: Mechanism, tol: Tolerances = DEFAULT) -> PolynomialSystem:
+    """The closure equations of ``mech`` alone (no prescribed value), reduced as :func:`position_system` does.
+
+    The solution set is the configuration space (a curve for a 1-DOF mechanism): ``reduced``
+    has fewer equations than ``solve_for`` has unknowns.  Every linear equation (and every
+    combination of the quadratics free of quadratic terms) is substituted, so the free
+    coordinates are an affine function of ``solve_for``: ``recover(v) = u₀ + N v``, whose
+    constant Jacobian ``N = ∂u/∂v`` :func:`recover_jacobian` gives.
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> s = closure_system(get("watt_sixbar"))
+    >>> len(s.equations), len(s.unknowns), len(s.reduced), len(s.solve_for)
+    (7, 8, 5, 6)
+    """
+    tol = Tolerances.of(tol)
+    b = _Builder(mech, tol)
+    _bodies(b)
+    _sliders(b, set())
+    original = list(b.equations)
+    pivots, solution, left, nonlinear = _reduce([e for _, e in original], list(b.u), tol, mech.name)
+    nonlinear = [e for e in nonlinear if e.free_symbols]
+    lin_f = sp.lambdify([left], [solution[s] for s in pivots], "numpy") if pivots else None
+    full_index = {s: i for i, s in enumerate(b.u)}
+
+    def recover(v):
+        v = np.asarray(v)
+        u = np.zeros(len(b.u), dtype=v.dtype)
+        for s, val in zip(left, v):
+            u[full_index[s]] = val
+        if lin_f is not None:
+            for s, val in zip(pivots, lin_f(list(v))):
+                u[full_index[s]] = val
+        return u
+
+    recover.expressions = {s: solution.get(s, s) for s in b.u}
+    return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), (),
+                            tuple(nonlinear), tuple(left), recover)
+
+
+def recover_jacobian(system: PolynomialSystem) -> np.ndarray:
+    """``N = ∂u/∂v`` of :func:`closure_system`'s affine ``recover`` (unknowns × solve_for)."""
+    exprs = system.recover.expressions
+    return np.array([[float(sp.diff(exprs[s], v)) for v in system.solve_for] for s in system.unknowns])

@@ -1,0 +1,76 @@
+"""``symkin singularities MODEL [--json] [--plot FILE.png]``: every circuit and singular configuration of a 1-DOF mechanism."""
+from __future__ import annotations
+
+import json
+
+from symkin.commands import Output
+from symkin.commands.analyze import tolerance
+from symkin.commands.path import _in_file
+from symkin.errors import SymkinError
+from symkin.model.model_file import read_model
+
+NAME = "singularities"
+HELP = ("every circuit of a 1-DOF mechanism and every DKP-input, DKP-output and IM configuration on it "
+        "(traced circuits, cross-checked by homotopy); needs the extra symkin[global]")
+
+
+def add_arguments(p) -> None:
+    p.add_argument("model", help="model file (.toml or .json) of a 1-DOF mechanism")
+    p.add_argument("--unit", choices=("deg", "rad"), default="deg",
+                   help="unit of the reported angles (default deg; lengths are in model units)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--plot", metavar="FILE.png", default=None,
+                   help="write the circuits in input-output space with every singular configuration numbered")
+    p.add_argument("--max-paths", type=int, default=None,
+                   help="refuse a square DKP system whose homotopy tracks more paths than this (default 600)")
+    p.add_argument("--tol", type=tolerance, default=None,
+                   help="relative rank tolerance of the events and their classification (default 1e-8)")
+
+
+def _text(result) -> str:
+    mech = result.mechanism
+    u = result.unit if result.kind == "angle" else "(model length units)"
+    lines = [f"{mech.name}: {len(result.circuits)} circuit(s), {len(result.singularities)} singular "
+             f"configuration(s), input {result.input} ({result.seconds:.1f} s).", ""]
+    for c in result.circuits:
+        what = "the input turns fully" if c.full_turn else "the input oscillates"
+        lines.append(f"circuit {c.index}: {len(c.branches)} traced branch(es), {what}"
+                     + ("" if c.closed else " (NOT closed)"))
+    lines.append("")
+    for k, s in enumerate(result.singularities, 1):
+        out = "" if s.output is None else f", {result.output} = {s.output:.10g}"
+        lines.append(f"{k}. circuit {s.circuit}: {', '.join(s.types) or 'none'} (L = {s.dof}) at "
+                     f"{result.input} = {s.input:.10g} {u}{out}")
+        for n in mech.free_nodes:
+            lines.append(f"   {n} = ({', '.join(f'{c:.10g}' for c in s.configuration[n])})")
+    lines.append("")
+    for ch in result.checks:
+        lines.append(f"cross-check {ch.kind}: {ch.homotopy} real solution(s) of closure + det = 0 "
+                     f"({ch.paths} paths), {ch.traced} traced {ch.kind}/IM configuration(s): "
+                     + ("agree" if ch.agree else "DISAGREE"))
+    lines += [f"warning: {w}" for w in result.warnings]
+    return "\n".join(lines)
+
+
+def run(args) -> Output:
+    from symkin.solutions.circuits import singularities
+
+    mech = read_model(args.model)
+    if args.plot:
+        from symkin.plots.extra import require_matplotlib
+
+        require_matplotlib("--plot")
+    try:
+        options = {} if args.max_paths is None else {"max_paths": args.max_paths}
+        result = singularities(mech, tol=args.tol, unit=args.unit, **options)
+    except SymkinError as exc:
+        raise _in_file(exc, args.model)
+    message = ""
+    if args.plot:
+        from symkin.plots.circuits import save_circuits_figure
+
+        save_circuits_figure(result, args.plot)
+        message = f"wrote {args.plot}"
+    if args.json:
+        return Output(json.dumps(result.to_dict(), indent=1), message=message)
+    return Output(_text(result), message=message)

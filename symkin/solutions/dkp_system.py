@@ -1,0 +1,247 @@
+"""The square polynomial system "closure + DKP test function = 0" of a 1-DOF mechanism.
+
+In the dimensionless nodal coordinates of :func:`~symkin.solutions.system.closure_system`
+the configuration curve is ``R(v) = 0`` (``k`` equations, ``k + 1`` unknowns, every linear
+equation substituted: ``u = u₀ + N v``).  The velocity equation is ``(∂R/∂v) v̇ = 0``; a
+parameter (the input or the output coordinate) has the rate ``p(u) · N v̇`` up to a factor
+that is nonzero and constant on the curve (a link length, :func:`rate_row`).  Appending its
+row gives the square matrix of the velocity equation with the parameter row, and
+
+    D(v) = det [ ∂R/∂v ; p(u(v)) N ]
+
+vanishes exactly where the parameter's rate is zero along the curve (a DKP configuration of
+that parameter when F = 1, paper §III: the parameter cannot be given an arbitrary rate) or
+where ``∂R/∂v`` loses rank (an IM configuration, a branch point of the curve).  It is the
+determinant of the velocity equation in the full nodal coordinates with the parameter row
+appended, up to a nonzero constant factor (the linear rows of the eliminated equations).
+``R = 0, D = 0`` is square (``k + 1`` equations): its isolated real solutions are every
+DKP and IM configuration of the mechanism, which :func:`symkin.singularities` compares
+with those located along the traced circuits.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+from sympy.polys.domains import RR
+from sympy.polys.rings import ring
+
+from symkin.errors import SymkinError
+from symkin.model.mechanism import Mechanism
+from symkin.paths.coordinates import InputCoordinate, _axis_angle_setup, _pair
+from symkin.solutions.system import PolynomialSystem, _Builder, closure_system, recover_jacobian
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["DkpSystem", "block_triangular", "dkp_system", "polish", "rate_row"]
+
+
+@dataclass(frozen=True, eq=False)
+class DkpSystem:
+    """``closure + D = 0`` for one parameter (see the module docstring).
+
+    ``curve`` are the closure's reduced equations in ``unknowns`` (= ``closure.solve_for``);
+    ``factors`` the determinants of the diagonal blocks of the block-triangular form of
+    ``[∂R/∂v; p N]`` (its Dulmage–Mendelsohn decomposition: ``D = ± ∏ factors``, so that a
+    Watt six-bar's ``D`` splits into one factor per loop and the homotopy tracks far fewer
+    paths); :meth:`systems` the square systems ``curve + [factor]``.  ``degree`` is the total
+    degree of ``D``.  ``squared`` tells that the closure had redundant equations, squared up
+    by random combinations before ``D`` was formed (its extra roots are filtered by the caller).
+    """
+
+    closure: PolynomialSystem
+    coordinate: InputCoordinate
+    curve: tuple
+    factors: tuple
+    unknowns: tuple
+    degree: int
+    squared: bool
+
+    @property
+    def equations(self) -> tuple:
+        """``curve`` followed by the product of the factors (``D`` up to its sign)."""
+        return self.curve + (sp.expand(sp.prod(self.factors)),)
+
+    def systems(self) -> list[tuple]:
+        """One square system ``curve + (factor,)`` per factor."""
+        return [self.curve + (f,) for f in self.factors]
+
+
+def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> list:
+    """A polynomial row ``p(u)`` over the free coordinates with ``ċ = p(u) · u̇ / κ``, ``κ`` constant on the closure.
+
+    Planar rotation of a link (pair ``i → j``, ``d = x_j − x_i``): ``d × ḋ`` (``κ = |d|²``); a
+    planar joint angle: ``|d₁|² (d₂ × ḋ₂) − |d₂|² (d₁ × ḋ₁)``; a rotation about a fixed axis
+    ``a`` (body node ``k``, ``r = x_k − o``): ``a · (r × ṙ)``; a node's coordinate or a slide on a
+    fixed line: the constant unit row.  A slide on a moving line is not supported (its rate
+    involves ``1/|x_C − x_A|``, not constant in general).
+    """
+    b = _Builder(mech, tol)
+    names = mech.node_names
+    dots = {n: sp.Matrix(sp.symbols(f"w_{n}_0:{mech.dim}")) for n in mech.free_nodes}
+
+    def vel(n):
+        return dots[n] if n in dots else sp.zeros(mech.dim, 1)
+
+    def turn(link):
+        i, j = _pair(mech, link)
+        d, dd = b.node(names[j]) - b.node(names[i]), vel(names[j]) - vel(names[i])
+        m = b.model(names[j]) - b.model(names[i])
+        return d[0] * dd[1] - d[1] * dd[0], float(m @ m)
+
+    p = c.parameter
+    if p.kind == "rotation" and mech.dim == 2:
+        form = turn(p.target[0])[0]
+    elif p.kind == "joint":
+        (w1, k1), (w2, k2) = turn(p.target[0]), turn(p.target[1])
+        form = k1 * w2 - k2 * w1
+    elif p.kind == "rotation":
+        axis, origin, k = _axis_angle_setup(mech, p)
+        r = b.node(names[k]) - sp.Matrix((origin - b.center) / b.scale)
+        form = sp.Matrix([float(a) for a in axis]).dot(r.cross(vel(names[k])))
+    elif p.kind == "velocity":
+        form = vel(p.target[0])[c.component if not p.component else "xyz".index(p.component)]
+    elif p.kind == "slide" and mech.slider(p.target[0]).kind != "moving_line":
+        s = mech.slider(p.target[0])
+        d = np.array(s.direction, float)
+        form = sum(float(w) * e for w, e in zip(d / np.linalg.norm(d), vel(s.node)))
+    else:
+        raise SymkinError(f"{c.label}: the square DKP system is not available for a {p.kind} on a moving line")
+    form = sp.expand(form)
+    return [sp.expand(form.coeff(w)) for n in mech.free_nodes for w in dots[n]]
+
+
+def _determinant(rows: list[list], gens: list):
+    """``det`` of a square matrix of polynomials by Laplace expansion over column subsets (memoised).
+
+    The rows of ``∂R/∂v`` are sparse (a bar involves at most two nodes): the expansion is
+    ``2ⁿ`` sub-determinants at most, in sympy's sparse polynomial ring over floats.
+    """
+    n = len(rows)
+    r, *_ = ring([str(g) for g in gens], RR)
+    polys = [[r(0) if e == 0 else r.from_expr(sp.sympify(e).xreplace({g: sp.Symbol(str(g)) for g in gens}))
+              for e in row] for row in rows]
+    memo: dict[int, object] = {}
+
+    def rec(k: int, used: int):
+        if k == n:
+            return r.one
+        if used in memo:
+            return memo[used]
+        total = r.zero
+        free = [j for j in range(n) if not used >> j & 1]
+        for pos, j in enumerate(free):
+            if polys[k][j]:
+                term = polys[k][j] * rec(k + 1, used | 1 << j)
+                total = total + term if pos % 2 == 0 else total - term
+        memo[used] = total
+        return total
+
+    return rec(0, 0).as_expr().xreplace({sp.Symbol(str(g)): g for g in gens})
+
+
+def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | None = None,
+               closure: PolynomialSystem | None = None, seed: int = 0) -> DkpSystem:
+    """The square system ``R(v) = 0, det[∂R/∂v; p N] = 0`` of parameter ``c`` (module docstring).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> from symkin.paths.coordinates import input_coordinates
+    >>> m = get("fourbar_appendix")
+    >>> s = dkp_system(m, input_coordinates(m)[0])
+    >>> len(s.equations), len(s.unknowns), s.degree
+    (4, 4, 4)
+    """
+    from symkin.solutions.homotopy import square_up
+
+    tol = Tolerances.of(tol)
+    if mech.mobility_value != 1:
+        raise SymkinError(f"{mech.name}: the DKP system needs a 1-DOF mechanism (F = {mech.mobility_value})")
+    closure = closure or closure_system(mech, tol)
+    v = list(closure.solve_for)
+    eqs = list(closure.reduced)
+    squared = len(eqs) > len(v) - 1
+    if squared:
+        eqs = square_up(eqs, len(v) - 1, seed=seed)
+    if len(eqs) < len(v) - 1:
+        raise SymkinError(f"{mech.name}: the closure leaves {len(v) - len(eqs)} free parameters, not a curve "
+                          "(the mechanism moves with more than one degree of freedom)")
+    n = recover_jacobian(closure)
+    u_of_v = closure.recover.expressions
+    row_u = rate_row(mech, c, tol)
+    sub = {s: e for s, e in u_of_v.items() if s not in v}
+    row_v = [sp.expand(sum((float(n[i, j]) * row_u[i].xreplace(sub) for i in range(len(row_u)) if n[i, j] != 0),
+                           sp.Integer(0))) for j in range(len(v))]
+    jac = sp.Matrix(eqs).jacobian(v).tolist() if eqs else []
+    factors = []
+    for block in block_triangular(jac + [row_v]):
+        rows = [[(jac + [row_v])[i][j] for j in block[1]] for i in block[0]]
+        det = sp.expand(_determinant(rows, v))
+        if det == 0:
+            raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is identically zero on the "
+                              "configuration space (a structurally singular velocity equation)")
+        if det.free_symbols:
+            factors.append(det)
+    if not factors:
+        raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is constant on the configuration "
+                          "space (the parameter is never singular): no square system")
+    degree = sum(int(sp.Poly(f, *v).total_degree()) for f in factors)
+    return DkpSystem(closure, c, tuple(eqs), tuple(factors), tuple(v), degree, squared)
+
+
+def block_triangular(rows: list[list]) -> list[tuple[list[int], list[int]]]:
+    """Diagonal blocks ``(rows, columns)`` of the block-triangular form of a square sparse matrix.
+
+    A perfect matching of rows to columns (:func:`scipy.sparse.csgraph.maximum_bipartite_matching`)
+    and the strongly connected components of the row graph it induces (Dulmage–Mendelsohn):
+    the determinant is, up to its sign, the product of the blocks' determinants.  A
+    structurally singular matrix (no perfect matching) is one block.
+    """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components, maximum_bipartite_matching
+
+    n = len(rows)
+    pattern = csr_matrix(np.array([[1 if e != 0 else 0 for e in r] for r in rows], dtype=np.int8))
+    match = maximum_bipartite_matching(pattern, perm_type="column")
+    if np.any(match < 0):
+        return [(list(range(n)), list(range(n)))]
+    row_of = {int(match[i]): i for i in range(n)}
+    graph = np.zeros((n, n), dtype=np.int8)
+    for i in range(n):
+        for j in range(n):
+            if rows[i][j] != 0:
+                graph[i, row_of[j]] = 1
+    count, label = connected_components(csr_matrix(graph), directed=True, connection="strong")
+    blocks = []
+    for k in range(count):
+        ri = [i for i in range(n) if label[i] == k]
+        blocks.append((ri, [int(match[i]) for i in ri]))
+    return blocks
+
+
+def polish(equations: tuple, unknowns: tuple, v: np.ndarray, max_iterations: int = 40) -> tuple[np.ndarray, float]:
+    """Gauss–Newton on the square system ``equations = 0`` from ``v``; returns the point and its largest residual."""
+    f, j = _compiled(equations, unknowns)
+    best_v, best = v, float(np.max(np.abs(f(v))))
+    for _ in range(max_iterations):
+        r = f(v)
+        res = float(np.max(np.abs(r)))
+        if res < best:
+            best_v, best = v, res
+        if res <= 1e-15:
+            break
+        step = np.linalg.lstsq(j(v), -r, rcond=None)[0]
+        if not np.all(np.isfinite(step)) or float(np.max(np.abs(step))) <= 1e-16:
+            break
+        v = v + step
+    res = float(np.max(np.abs(f(v))))
+    return (v, res) if res <= best else (best_v, best)
+
+
+def _compiled(equations: tuple, unknowns: tuple):
+    u = list(unknowns)
+    f = sp.lambdify([u], list(equations), "numpy")
+    jj = sp.lambdify([u], sp.Matrix(equations).jacobian(u), "numpy")
+    return (lambda x: np.array(f(x), float).ravel(),
+            lambda x: np.array(jj(x), float).reshape(len(u), len(u)))
