@@ -53,7 +53,10 @@ Algorithm
    ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points
    (:func:`symkin.paths.events.locate_minimum`), below :attr:`Tolerances.near_branch`:
    ``T`` is not defined at IM; the IM configuration is then refined as in step 4) or
-   cannot be continued.  A crossing that lies on a curve already traced (configuration
+   cannot be continued.  On the way, a **cusp** of the curve's image in the axes (the axis
+   velocity ``∂A/∂y · t`` reverses between two points) is located along the curve and kept
+   when the relative axis speed there is at most :attr:`Tolerances.event_threshold`
+   (:func:`locate_cusp`); it neither stops nor splits the curve.  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
    the cells around it are subdivided (:func:`symkin.workspace.quadtree.subdivide` with the
@@ -70,7 +73,8 @@ Algorithm
 6. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
-   when it has two or more types, else its type).
+   when it has two or more types, else its type); a cusp inside the box is reported with
+   ``kind`` ``"cusp"`` and the core's types.
 
 Accuracy: every located and traced point satisfies ``‖(Φ/ℓ, holds, T)‖ ≤ 1e-12``
 (Newton's tolerance), i.e. it lies on its locus to ~1e-12 relative to ``ℓ`` where the
@@ -226,7 +230,7 @@ class Curve:
 
 @dataclass(frozen=True, eq=False)
 class SingularPoint:
-    """An isolated singular point (an IM point, where a curve meets the mode boundary), classified by the core."""
+    """An isolated singular point (an IM point, where a curve meets the mode boundary, a cusp), classified by the core."""
 
     kind: str
     mode: Any

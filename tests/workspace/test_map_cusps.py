@@ -107,28 +107,33 @@ def truth():
 
 
 @pytest.mark.slow
-def test_rpr_joint_space_cusps_match_the_geometry(truth):
-    mech = symkin.read_model(MODELS / "rpr_3.toml")
+@pytest.mark.parametrize("scale", [1.0, 1000.0], ids=["m", "mm"])
+def test_rpr_joint_space_cusps_match_the_geometry(truth, scale):
+    model = symkin.read_model(MODELS / "rpr_3.toml")
     (x0, x1), (y0, y1) = BOX
-    m = symkin.workspace_map(mech, x=f"slide:s1={x0}:{x1}", y=f"slide:s2={y0}:{y1}", n=31, hold=["slide:s3"])
-    cusps = [p for p in m.points if p.kind == "cusp"]
+    m = symkin.workspace_map(model.moved(scale=scale), x=f"slide:s1={x0 * scale}:{x1 * scale}",
+                             y=f"slide:s2={y0 * scale}:{y1 * scale}", n=31, hold=["slide:s3"])
+    cusps = [(np.array(p.at) / scale, p.types) for p in m.points if p.kind == "cusp"]  # in the file's units
     inside = [(p, leg_lengths(p)[:2]) for p in truth
               if x0 <= leg_lengths(p)[0] <= x1 and y0 <= leg_lengths(p)[1] <= y1]
     assert inside, "the box holds no independent cusp: the test would prove nothing"
-    for c in cusps:  # every reported cusp is one of the geometry's, to 1e-8 relative
-        err = min(np.linalg.norm(np.array(c.at) - r) / np.linalg.norm(r) for _, r in inside)
-        assert err < 1e-8, (c.at, err)
-        assert c.types == ("DKP-input",)
+    for at, types in cusps:  # every reported cusp is one of the geometry's, to 1e-8 relative
+        err = min(np.linalg.norm(at - r) / np.linalg.norm(r) for _, r in inside)
+        assert err < 1e-8, (at, err)
+        assert types == ("DKP-input",)
     for p, r in inside:  # every cusp of the geometry in the box is reported
-        assert any(np.linalg.norm(np.array(c.at) - r) / np.linalg.norm(r) < 1e-8 for c in cusps), r
+        assert any(np.linalg.norm(at - r) / np.linalg.norm(r) < 1e-8 for at, _ in cusps), r
         # the core at the independent pose: type 2 (DKP-input, leg lines concurrent), not IM, DOF 3
-        a = symkin.analyze(_mechanism_at(mech, p))
+        a = symkin.analyze(_mechanism_at(model, p))
         assert a.dof == 3 and "DKP-input" in a.types and "IM" not in a.types, (a.dof, a.types)
-    # a cusp does not split the traced curve: it lies on (not at an end of) a traced DKP-input curve
-    for c in cusps:
-        on = [cv for cv in m.curves if cv.kind == "DKP-input" and
-              np.min(np.linalg.norm(np.asarray(cv.points)[1:-1] - c.at, axis=1)) < 0.5]
-        assert on
+    # a cusp does not split the traced curve: a traced DKP-input curve passes it (within two cells, the
+    # tracer's largest step) and ends farther away
+    cell = (x1 - x0) / 30
+    for at, _ in cusps:
+        assert any(cv.kind == "DKP-input" and
+                   np.min(np.linalg.norm(np.asarray(cv.points) / scale - at, axis=1)) < 2 * cell and
+                   min(np.linalg.norm(np.asarray(cv.points)[[0, -1]] / scale - at, axis=1)) > 2 * cell
+                   for cv in m.curves)
     assert m.to_dict()["counts"]["0"].get("cusp", 0) == len(cusps)
 
 
