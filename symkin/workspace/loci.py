@@ -53,7 +53,10 @@ Algorithm
    ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points
    (:func:`symkin.paths.events.locate_minimum`), below :attr:`Tolerances.near_branch`:
    ``T`` is not defined at IM; the IM configuration is then refined as in step 4) or
-   cannot be continued.  A crossing that lies on a curve already traced (configuration
+   cannot be continued.  On the way, a **cusp** of the curve's image in the axes (the axis
+   velocity ``∂A/∂y · t`` reverses between two points) is located along the curve and kept
+   when the relative axis speed there is at most :attr:`Tolerances.event_threshold`
+   (:func:`locate_cusp`); it neither stops nor splits the curve.  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
    the cells around it are subdivided (:func:`symkin.workspace.quadtree.subdivide` with the
@@ -70,7 +73,8 @@ Algorithm
 6. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
-   when it has two or more types, else its type).
+   when it has two or more types, else its type); a cusp inside the box is reported with
+   ``kind`` ``"cusp"`` and the core's types.
 
 Accuracy: every located and traced point satisfies ``‖(Φ/ℓ, holds, T)‖ ≤ 1e-12``
 (Newton's tolerance), i.e. it lies on its locus to ~1e-12 relative to ``ℓ`` where the
@@ -98,7 +102,8 @@ from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
-           "locate_crossing", "locate_fold", "locate_double_zero", "trace_locus", "trace_double_zero", "KINDS"]
+           "locate_crossing", "locate_fold", "locate_double_zero", "locate_cusp", "trace_locus", "trace_double_zero",
+           "KINDS"]
 
 #: curve kinds and the indicator output that defines each
 KINDS = {"DKP-input": "dkp_input", "DKP-output": "dkp_output"}
@@ -225,7 +230,7 @@ class Curve:
 
 @dataclass(frozen=True, eq=False)
 class SingularPoint:
-    """An isolated singular point (an IM point, where a curve meets the mode boundary), classified by the core."""
+    """An isolated singular point (an IM point, where a curve meets the mode boundary, a cusp), classified by the core."""
 
     kind: str
     mode: Any
@@ -743,12 +748,57 @@ def _polyline_distance(p: np.ndarray, poly: np.ndarray, closed: bool) -> float:
     return float(np.min(np.linalg.norm(p - (a + u[:, None] * ab), axis=1)))
 
 
+def axis_velocity(pb: _Problems, y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``dA/ds = ∂A/∂y · t``: the velocity of the dimensionless axes along the curve's unit tangent ``t``."""
+    return np.array(pb._axes(y)[1]) @ np.asarray(t, float)
+
+
+def relative_axis_speed(pb: _Problems, y: np.ndarray, t: np.ndarray) -> float:
+    """``‖∂A/∂y · t‖ / ‖∂A/∂y‖₂``: how fast the axes move along the curve, relative to how fast they can.
+
+    ``y = q/ℓ`` and ``A = a/axis_scale`` are dimensionless and ``t`` is a unit vector, so the
+    ratio is the same for a model in millimetres and in metres (and under rigid motions).  It is
+    zero exactly where the projection of the configuration-space curve onto the axes stops: a cusp.
+    """
+    ja = np.array(pb._axes(y)[1])
+    return float(np.linalg.norm(ja @ np.asarray(t, float)) / np.linalg.norm(ja, 2))
+
+
+def locate_cusp(pb: _Problems, problem: _Curve, a: CurvePoint, b: CurvePoint, v_a: np.ndarray,
+                tol: Tolerances = DEFAULT) -> np.ndarray | None:
+    """A cusp of the curve's projection onto the axes between accepted curve points ``a`` and ``b``.
+
+    A singular curve is smooth in configuration space; its image in the axes has a cusp where
+    the axis velocity ``v = ∂A/∂y · t`` (:func:`axis_velocity`) vanishes while the curve moves
+    (``t`` is a unit tangent): ``v`` turns back there, ``v(s) ≈ (s − s₀)·w``.  The caller
+    brackets it by ``v(a) · v(b) < 0``; the root of the signed scalar ``v(s) · v(a)/‖v(a)‖`` is
+    located along the curve (:func:`symkin.paths.events.locate_sign_change`: Brent's method on
+    the arclength of the Newton-projected curve, to ``1e-14``), where both components of ``v``
+    vanish at a cusp.  It is a cusp when the relative axis speed there
+    (:func:`relative_axis_speed`, scale invariant) is at most :attr:`Tolerances.event_threshold`
+    (the core's threshold for a located zero of a path test, ``1e-7`` by default; a located cusp
+    has ~1e-13, a curve that merely turns sharply within a step has a speed of order one).
+    Returns the configuration ``y`` (dimensionless) or None.
+    """
+    v_a = np.asarray(v_a, float)
+    u = v_a / np.linalg.norm(v_a)
+    test = TestFunction("cusp", lambda yy, tt: float(axis_velocity(pb, yy, tt) @ u))
+    try:
+        ev = locate_sign_change(problem, test, a, b)
+    except (NotConvergedError, ValueError):
+        return None
+    if relative_axis_speed(pb, ev.y, ev.t) <= tol.event_threshold:
+        return np.asarray(ev.y, float)
+    return None
+
+
 @dataclass
 class _Half:
     ys: list
     end: str
     end_y: np.ndarray | None = None
     meetings: list = field(default_factory=list)
+    cusps: list = field(default_factory=list)
 
 
 def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: np.ndarray,
@@ -772,6 +822,8 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
     i_prev = pb.tests(y0)[interior]
     im_test = TestFunction("im", lambda yy, tt: pb.tests(yy)["im"], signed=False, threshold=tol.near_branch)
     pprev, r_pprev, r_prev = None, math.inf, pb.tests(y0)["im"]
+    cusps: list = []
+    v_prev = axis_velocity(pb, y0, t0)
     try:
         for point in continue_curve(problem, y0, t0, settings):
             if prev is None:
@@ -838,7 +890,13 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
                     meetings.append(locate_sign_change(problem, test, prev, point).y)
                 except (NotConvergedError, ValueError):
                     pass
-            b_prev, i_prev = b_now, t[interior]
+            v_now = axis_velocity(pb, point.y, point.t)
+            if float(v_now @ v_prev) < 0.0:
+                # the axis velocity turned back within the step: a cusp of the curve's projection?
+                cusp = locate_cusp(pb, problem, prev, point, v_prev, tol)
+                if cusp is not None:
+                    cusps.append(cusp)
+            b_prev, i_prev, v_prev = b_now, t[interior], v_now
             pprev, r_pprev, r_prev = prev, r_prev, t["im"]
             if point.s > 3 * settings.max_step and float(point.t @ start.t) > 0.5 and \
                     _segment_distance(start.y, prev.y, point.y) <= 0.25 * float(np.linalg.norm(point.y - prev.y)):
@@ -848,7 +906,7 @@ def _trace_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray, box: n
             prev = point
     except NotConvergedError:  # SteppingError, or a residual/Jacobian that is not finite
         end = "stalled"
-    return _Half(out, end, end_y, meetings)
+    return _Half(out, end, end_y, meetings, cusps)
 
 
 def _branch_test(problem: _Curve, y: np.ndarray, t: np.ndarray) -> float:
@@ -891,22 +949,24 @@ def _onto_box(pb: _Problems, problem: _Curve, y_in: np.ndarray, y_out: np.ndarra
 
 def trace_locus(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray, settings: Settings,
                 tol: Tolerances = DEFAULT, boundary: tuple[str, float] = ("DKP-output", 1.0)
-                ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list]:
+                ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list, list]:
     """Trace the locus ``kind`` through ``y0`` both ways.
 
-    Returns ``(ys, closed, ends, end points, meeting points)`` in ``y = q/ℓ`` (see
-    :func:`_trace_half` for ``boundary``).
+    Returns ``(ys, closed, ends, end points, meeting points, cusps)`` in ``y = q/ℓ`` (see
+    :func:`_trace_half` for ``boundary``, :func:`locate_cusp` for the cusps: located on the
+    way, they neither stop nor split the curve).
     """
     problem = pb.curve(kind)
     t0 = tangent(problem, y0)
     start = CurvePoint(np.array(y0, float), t0, 0.0)
     fwd = _trace_half(pb, kind, y0, t0, box, settings, tol, start, boundary)
     if fwd.end == "closed":
-        return np.array(fwd.ys), True, ("closed",), [], fwd.meetings
+        return np.array(fwd.ys), True, ("closed",), [], fwd.meetings, fwd.cusps
     bwd = _trace_half(pb, kind, y0, -t0, box, settings, tol, CurvePoint(start.y, -t0, 0.0), boundary)
     ys = np.array(bwd.ys[:0:-1] + fwd.ys)
     ends = (bwd.end, fwd.end)
-    return ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None], bwd.meetings + fwd.meetings
+    return (ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None], bwd.meetings + fwd.meetings,
+            bwd.cusps + fwd.cusps)
 
 
 def _perp(v: np.ndarray) -> np.ndarray:
@@ -979,7 +1039,7 @@ def _trace_double_half(pb: _Problems, kind: str, y0: np.ndarray, t0: np.ndarray,
 
 def trace_double_zero(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray, settings: Settings,
                       tol: Tolerances = DEFAULT, boundary: tuple[str, float] = ("DKP-output", 1.0)
-                      ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list]:
+                      ) -> tuple[np.ndarray, bool, tuple[str, ...], list, list, list]:
     """Trace a curve of double zeros of ``T`` (``kind``) through ``y0`` both ways.
 
     ``(Φ/ℓ, holds, T) = 0`` is singular along such a curve (``∇T = 0`` on the surface), so
@@ -996,10 +1056,10 @@ def trace_double_zero(pb: _Problems, kind: str, y0: np.ndarray, box: np.ndarray,
     t0 = tangent(pb.slope_curve(kind, n0), y0, t0)
     fwd = _trace_double_half(pb, kind, y0, t0, box, settings, tol, boundary)
     if fwd.end == "closed":
-        return np.array(fwd.ys), True, ("closed",), [], []
+        return np.array(fwd.ys), True, ("closed",), [], [], []
     bwd = _trace_double_half(pb, kind, y0, -t0, box, settings, tol, boundary)
     ys = np.array(bwd.ys[:0:-1] + fwd.ys)
-    return ys, False, (bwd.end, fwd.end), [h.end_y for h in (bwd, fwd) if h.end_y is not None], []
+    return ys, False, (bwd.end, fwd.end), [h.end_y for h in (bwd, fwd) if h.end_y is not None], [], []
 
 
 def _boundary(grid: GridData, signs: list) -> tuple[str, float]:
@@ -1119,7 +1179,7 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
 
     def take(kind, y, tracer=None):
         before = pb.counter.n
-        ys, closed, ends, end_ys, meets = (tracer or trace_locus)(pb, kind, y, box_d, settings, tol, boundary)
+        ys, closed, ends, end_ys, meets, cusps = (tracer or trace_locus)(pb, kind, y, box_d, settings, tol, boundary)
         seeds.extend(meets)
         end_ys = end_ys + meets
         stats.trace_evaluations += pb.counter.n - before
@@ -1131,6 +1191,9 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         curves.append(Curve(kind, mode, closed, pts, qs, ends, pb.counter.n - before))
         for ye in end_ys:
             _add_point(points, pb, sys_, ye, mode, scale, tol)
+        for yc in cusps:
+            if np.all(pb.axes(yc) >= box_d[:, 0]) and np.all(pb.axes(yc) <= box_d[:, 1]):
+                _add_point(points, pb, sys_, yc, mode, scale, tol, kind="cusp")
 
     signs, folds = _brackets(grid)
     stats.crossings, stats.folds = len(signs), len(folds)
@@ -1257,14 +1320,15 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
 
 
 def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, mode, scale, tol,
-               only_im: bool = False) -> None:
+               only_im: bool = False, kind: str | None = None) -> None:
     """Classify the configuration ``y`` with the core and record it.
 
     A point is merged with one already recorded at the same configuration, or, for IM
     points (whose configuration need not be unique: a leg folded onto its pivot turns
     freely), at the same axis values (both within :attr:`Tolerances.same_configuration`,
     relative to the length scale / axis scale).
-    ``only_im`` records it only when the core says IM.
+    ``only_im`` records it only when the core says IM; ``kind`` (``"cusp"``) replaces the kind
+    the types give (the types stay the core's).
     """
     q = y * pb.scale
     at = pb.axes(y) * scale
@@ -1278,5 +1342,6 @@ def _add_point(points: list, pb: _Problems, system: LocusSystem, y: np.ndarray, 
             return
     types = tuple(name for name, flag in (("IM", res["im"]), ("DKP-input", res["is_dkp_input"]),
                                            ("DKP-output", res["is_dkp_output"])) if flag)
-    kind = "IM" if "IM" in types else ("meeting" if len(types) >= 2 else (types[0] if types else "end"))
+    if kind is None:
+        kind = "IM" if "IM" in types else ("meeting" if len(types) >= 2 else (types[0] if types else "end"))
     points.append(SingularPoint(kind, mode, at, types, q))

@@ -14,9 +14,15 @@ that module is installed (otherwise the map says so in :attr:`WorkspaceMap.notes
      "axes":   [{label, lo, hi, n}, {…}],
      "modes":  [{id, seed, assembled, rejected, branch_changes, note}],
      "curves": [{kind, mode, closed, points: [[x, y], …]}],
-     "points": [{kind, mode, at: [x, y], types}],
+     "points": [{kind, mode, at: [x, y], types}],   # kind: "IM", "meeting", "cusp", or the one type
      "counts": {"<mode id>": {"DKP-input": k, "DKP-output": k, "IM": k}},   # curves + points per kind
      "notes":  [...]}
+
+Isolated points (``points``) are classified by the core (``types``); their ``kind`` is ``"IM"``
+at an IM configuration, ``"meeting"`` where a curve ends on another locus (two or more types),
+``"cusp"`` where a traced curve's image in the axes turns back (its axis velocity vanishes while
+it moves in configuration space; :func:`symkin.workspace.loci.locate_cusp`; the curve goes on
+through it), else the one type of a curve's end.
 
 Axis values are in the user's units (angles in ``unit``).  :meth:`WorkspaceMap.save` writes
 an ``.npz`` (grid arrays per mode, curves, the header as JSON text; no pickles) that
