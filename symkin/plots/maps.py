@@ -46,6 +46,8 @@ INDICATORS = {
 CMAPS = {"log": "viridis", "signed": "PuOr_r"}
 #: line style per curve kind (colours from the path plots, :data:`symkin.plots.paths.STYLE`)
 LINESTYLES = {"DKP-input": "-", "DKP-output": (0, (5, 2)), "IM": ":"}
+#: marker per isolated point kind: the path plots' (IM, DKP) and a cusp of a traced curve
+POINT_STYLES = {**STYLE, "cusp": dict(colour="#ff7f0e", marker="^")}
 BOUNDARY_COLOUR = "black"
 
 
@@ -173,7 +175,7 @@ def plot_curves(wmap: WorkspaceMap, mode=0, ax=None, *, points: bool = True, hal
         for p in wmap.points:
             if p.mode != m.id:
                 continue
-            st = STYLE.get(p.kind, STYLE["IM"])
+            st = POINT_STYLES.get(p.kind, STYLE["IM"])
             ax.plot(*p.at, marker=st["marker"], markersize=7, markerfacecolor=st["colour"], markeredgecolor="white",
                     linestyle="none", zorder=5, gid=f"point:{p.kind}:{m.id}",
                     label=f"{p.kind} point" if f"p{p.kind}" not in seen else "_nolegend_")
@@ -329,10 +331,10 @@ def _legend_handles(wmap: WorkspaceMap):
     handles = [Line2D([], [], color=STYLE[k]["colour"], linestyle=LINESTYLES[k], linewidth=1.8,
                       label={"DKP-input": "DKP-input (type-2) curve", "DKP-output": "DKP-output (type-1) curve",
                              "IM": "IM curve"}[k]) for k in kinds]
-    for k in KINDS:
+    for k in (*KINDS, "cusp"):
         if any(p.kind == k for p in wmap.points):
-            handles.append(Line2D([], [], marker=STYLE[k]["marker"], color=STYLE[k]["colour"], linestyle="none",
-                                  label=f"{k} point"))
+            handles.append(Line2D([], [], marker=POINT_STYLES[k]["marker"], color=POINT_STYLES[k]["colour"],
+                                  linestyle="none", label=f"{k} point"))
     if any(0 < m.fraction < 1 for m in wmap.modes):
         handles.append(Line2D([], [], color=BOUNDARY_COLOUR, linewidth=1.0, label="workspace boundary of the mode"))
     return handles

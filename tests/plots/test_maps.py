@@ -197,3 +197,19 @@ def test_cli_plot_without_matplotlib_names_the_extra(model_file, tmp_path, capsy
     assert code == 2
     assert "--plot needs" in err and "plots" in err and "Traceback" not in err
     assert not target.exists()
+
+
+def test_a_cusp_point_has_its_own_marker_and_legend_entry(wmap):
+    """Cusps of traced curves (``kind: "cusp"``) are drawn with the cusp marker, not the IM one."""
+    import dataclasses
+
+    from symkin.plots.maps import POINT_STYLES, _legend_handles, plot_map
+    from symkin.workspace.maps import MapPoint
+
+    mode = wmap.modes[0].id
+    cusp = MapPoint(kind="cusp", mode=mode, at=(0.5, 2.0), types=("DKP-input",))
+    with_cusp = dataclasses.replace(wmap, points=wmap.points + (cusp,))
+    ax = plot_map(with_cusp, mode, "dkp_input")
+    drawn = [ln for ln in ax.lines if ln.get_gid() == f"point:cusp:{mode}"]
+    assert len(drawn) == 1 and drawn[0].get_marker() == POINT_STYLES["cusp"]["marker"] != POINT_STYLES["IM"]["marker"]
+    assert "cusp point" in [h.get_label() for h in _legend_handles(with_cusp)]
