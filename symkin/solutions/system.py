@@ -429,18 +429,12 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
                           f"{len(left) - len(nonlinear)} free parameter(s) (more unknowns than equations): "
                           "its solutions are not isolated; prescribe other values")
 
-    lin_f = sp.lambdify([left], [solution[s] for s in pivots], "numpy") if pivots else None
-    full_index = {s: i for i, s in enumerate(b.u)}
+    linear = _linear_recovery(b.u, left, pivots, solution)
     leg_data = [(list(mech.free_nodes).index(leg[2]), leg[3], leg[4], leg[5], leg[6]) for leg in legs]
 
     def recover(v):
         v = np.asarray(v)
-        u = np.zeros(len(b.u), dtype=v.dtype)
-        for s, val in zip(left, v):
-            u[full_index[s]] = val
-        if lin_f is not None:
-            for s, val in zip(pivots, lin_f(list(v))):
-                u[full_index[s]] = val
+        u = linear(v)
         for kd, a, c, rho, length in leg_data:
             xa = np.asarray(b.model(a), dtype=v.dtype) if a not in b.index else \
                 u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
@@ -568,12 +562,20 @@ def closure_system(mech: Mechanism, tol: Tolerances = DEFAULT) -> PolynomialSyst
     original = list(b.equations)
     pivots, solution, left, nonlinear = _reduce([e for _, e in original], list(b.u), tol, mech.name)
     nonlinear = [e for e in nonlinear if e.free_symbols]
+    recover = _linear_recovery(b.u, left, pivots, solution)
+    recover.expressions = {s: solution.get(s, s) for s in b.u}
+    return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), (),
+                            tuple(nonlinear), tuple(left), recover)
+
+
+def _linear_recovery(unknowns, left, pivots, solution):
+    """``v ↦ u``: the kept unknowns ``left`` are ``v``, the eliminated ``pivots`` their linear solution."""
     lin_f = sp.lambdify([left], [solution[s] for s in pivots], "numpy") if pivots else None
-    full_index = {s: i for i, s in enumerate(b.u)}
+    full_index = {s: i for i, s in enumerate(unknowns)}
 
     def recover(v):
         v = np.asarray(v)
-        u = np.zeros(len(b.u), dtype=v.dtype)
+        u = np.zeros(len(unknowns), dtype=v.dtype)
         for s, val in zip(left, v):
             u[full_index[s]] = val
         if lin_f is not None:
@@ -581,9 +583,7 @@ def closure_system(mech: Mechanism, tol: Tolerances = DEFAULT) -> PolynomialSyst
                 u[full_index[s]] = val
         return u
 
-    recover.expressions = {s: solution.get(s, s) for s in b.u}
-    return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), (),
-                            tuple(nonlinear), tuple(left), recover)
+    return recover
 
 
 def recover_jacobian(system: PolynomialSystem) -> np.ndarray:

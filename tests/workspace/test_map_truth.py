@@ -152,7 +152,7 @@ def test_five_bar_every_locus_point_in_the_box_is_near_a_traced_curve(five_bar_m
     (x0, x1), (y0, y1) = FB_BOX
     step = max((x1 - x0) / (FB_N[0] - 1), (y1 - y0) / (FB_N[1] - 1))
     inside = lambda p: (x0 + step < p[0] < x1 - step) and (y0 + step < p[1] < y1 - step)  # noqa: E731
-    samples, kinds = [], []
+    samples = []
     p, m = T.five_bar_type2_samples(FB, n=720, aligned=True)          # the Watt's curves
     samples += list(zip(p, map(tuple, m)))
     for centre, radius in T.five_bar_coincident_elbow_circles(FB):      # the coincident-elbow circles
