@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -288,9 +287,9 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     k_out = m_out.shape[0]
     rk_in, rk_out = _ranked(m_in, t), _ranked(m_out, t)
     r_in, r_out, null_in, null_out = rk_in.rank, rk_out.rank, rk_in.null, rk_out.null
-    if indicators.is_dkp(rk_in.s, k_in, f, tolerances):
+    if indicators.is_dkp(rk_in.s, k_in, f, tolerances, rank=rk_in.rank):
         types.append("DKP-input")
-    if indicators.is_dkp(rk_out.s, k_out, f, tolerances):
+    if indicators.is_dkp(rk_out.s, k_out, f, tolerances, rank=rk_out.rank):
         types.append("DKP-output")
 
     locked_nodes, locked_links = _locked(mech, ms, t)
@@ -301,7 +300,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     pf_rel: tuple[Relation, ...] = ()
     m_pf = None
     if mech.platform is not None:
-        twist, is_outputs = _platform_twist(mech.topology, mech.platform, mech.outputs)
+        twist, is_outputs = _platform_twist(mech)
         if is_outputs:  # the usual case: the outputs are the platform's twist
             m_pf, n_pf, lab_pf, rk_pf = m_out, n_out, lab_out, rk_out
         else:
@@ -374,11 +373,18 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         warnings=warnings)
 
 
-@lru_cache(maxsize=256)
-def _platform_twist(topology, platform: str, outputs: tuple) -> tuple[ParameterList, bool]:
+_TWISTS: dict = {}
+
+
+def _platform_twist(mech: Mechanism) -> tuple[ParameterList, bool]:
     """The platform's twist as a parameter list, and whether it is the outputs (once per topology)."""
-    twist = ParameterList((Parameter("twist", (platform,)),))
-    return twist, twist == tuple(outputs)
+    got = _TWISTS.get(mech.topology)
+    if got is None:
+        twist = ParameterList((Parameter("twist", (mech.platform,)),))
+        if len(_TWISTS) > 256:
+            _TWISTS.clear()
+        got = _TWISTS[mech.topology] = (twist, twist == tuple(mech.outputs))
+    return got
 
 
 def _locked(mech: Mechanism, ms: MotionSpace, t: float) -> tuple[tuple[str, ...], tuple[str, ...]]:

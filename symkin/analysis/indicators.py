@@ -115,13 +115,16 @@ def restricted_singular_values(p_hat: np.ndarray, v: np.ndarray) -> np.ndarray:
     return np.linalg.svd(m, compute_uv=False)
 
 
-def is_dkp(restricted: np.ndarray, k: int, mobility: int, tol: Tolerances):
+def is_dkp(restricted: np.ndarray, k: int, mobility: int, tol: Tolerances, rank: int | None = None):
     """DKP test: ``rank(P̂ V) < min(F, k)``, singular values compared with ``tol.rank`` (eq. 12, 16).
 
     ``restricted`` are the singular values from :func:`restricted_singular_values` (the
     rows are unit and V orthonormal, so the absolute threshold is scale invariant).
-    False when there are no such parameters (``k = 0``).
+    False when there are no such parameters (``k = 0``).  ``rank``, for one configuration,
+    is that count of ``restricted`` above ``tol.rank`` when the caller has made it.
     """
+    if rank is not None:  # one configuration whose singular values above tol.rank are counted already
+        return k > 0 and rank < min(mobility, k)
     s = np.asarray(restricted, dtype=float)
     if k == 0:
         return np.zeros(s.shape[:-1], bool)
@@ -187,9 +190,19 @@ def dkp_value(p_hat: np.ndarray, restricted: np.ndarray, mobility: int, js: np.n
 
 
 def _det(a: np.ndarray) -> float:
-    """Determinant of one square matrix from LAPACK's LU (``dgetrf``)."""
-    if a.shape[0] == 0:
+    """Determinant of one square matrix: cofactors up to 3 × 3, else LAPACK's LU (``dgetrf``)."""
+    n = a.shape[0]
+    if n == 0:
         return 1.0
+    if n <= 3:  # cofactors in plain floats: cheaper than a LAPACK call for the restricted matrices
+        m = a.tolist()
+        if n == 1:
+            return m[0][0]
+        if n == 2:
+            return m[0][0] * m[1][1] - m[0][1] * m[1][0]
+        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
     lu, piv, info = _dgetrf(a)
     if info < 0:  # bad input: let NumPy say what is wrong
         return float(np.linalg.det(a))

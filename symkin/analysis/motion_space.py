@@ -140,7 +140,7 @@ class MotionSpace:
 
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
-        p, labels = parameters_matrix(mech, params, self.xyz)
+        p, labels = parameters_matrix(mech, params)
         hat_free, norms = indicators.unit_rows(p.take(plan(mech.topology).free_index, axis=1))
         v_free = self.V_free if self.V_free is not None else self.V[plan(mech.topology).free_index]
         m = hat_free @ v_free

@@ -561,8 +561,8 @@ def _planar_program(topology, params: tuple) -> _PlanarProgram | None:
                           terms=terms, static=all(len(t) == 4 for t in terms))
 
 
-def _run_planar(prog: _PlanarProgram, x: np.ndarray) -> np.ndarray:
-    xl = x.tolist()
+def _run_planar(prog: _PlanarProgram, xl: list) -> np.ndarray:
+    """The rows of ``prog`` at the coordinates ``xl`` (a list of (x, y) per node)."""
     terms = prog.terms if prog.static else \
         [t if len(t) == 4 else (t[0], t[1], *_pair_for_rotation(xl, t[2])) for t in prog.terms]
     return _add_planar_rotations(prog.const.copy(), terms, xl)
@@ -575,10 +575,10 @@ def parameters_matrix(mech: Mechanism, params, xyz: np.ndarray | None = None) ->
     :func:`parameter_rows`.
     """
     params = params if isinstance(params, tuple) else tuple(params)
-    x = _xyz(mech) if xyz is None else xyz
     prog = _planar_program(mech.topology, params) if mech.dim == 2 else None
-    if prog is not None:
-        return _run_planar(prog, x), prog.labels
+    if prog is not None:  # plain floats: the nodes' own tuples when no array is given
+        return _run_planar(prog, [c for _, c in mech.nodes] if xyz is None else xyz.tolist()), prog.labels
+    x = _xyz(mech) if xyz is None else xyz
     labels = tuple(lab for p in params for lab in p.labels(mech.dim))
     blocks = [parameter_rows(mech, p, x) for p in params]
     if not blocks:
