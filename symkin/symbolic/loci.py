@@ -959,14 +959,29 @@ def _dkp_locus(sm, sys, subs, blocks, xs, kind, time_limit, limit, t0) -> Locus:
     return Locus(kind, tuple(geometric), tuple(trivial), time.perf_counter() - t0, note)
 
 
+def _one_real_point(f, xs) -> bool:
+    """Whether the factor ``f`` is ``a((x − h)² + (y − k)²)``: a circle of radius 0, one real point (no curve)."""
+    x, y = xs
+    p = sp.Poly(f, x, y)
+    if p.total_degree() != 2:
+        return False
+    a, b, cc = (p.coeff_monomial(m) for m in (x ** 2, x * y, y ** 2))
+    if b != 0 or a != cc or a == 0:
+        return False
+    h, k = -p.coeff_monomial(x) / (2 * a), -p.coeff_monomial(y) / (2 * a)
+    return sp.simplify(h ** 2 + k ** 2 - p.coeff_monomial(1) / a) == 0
+
+
 def _im_locus(sm, sys, subs, blocks, xs, done: list, time_limit, limit, t0) -> Locus:
     dkp = {l.kind: l for l in done}
     if "DKP-input" in dkp and "DKP-output" in dkp:
         a = {sp.srepr(f.polynomial) for f in dkp["DKP-input"].factors}
         shared = [f for f in dkp["DKP-output"].factors if sp.srepr(f.polynomial) in a]
-        if not shared:
+        curves = [f for f in shared if not _one_real_point(f.polynomial, xs)]
+        if not curves:
+            which = "share no factor" if not shared else "share only factors with one real point each"
             return Locus("IM", (), (), time.perf_counter() - t0,
-                         "no curve: the IM locus lies in the DKP-input and DKP-output loci, which share no factor "
+                         f"no curve: the IM locus lies in the DKP-input and DKP-output loci, which {which} "
                          "(isolated IM points are not listed)")
     cond = sm.im_condition(time_limit=time_limit)
     if cond.identically_zero:

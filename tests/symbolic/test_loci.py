@@ -290,3 +290,23 @@ def test_cli_bad_label_exit_2(capsys, five_bar_file):
     code = main(["conditions", str(five_bar_file), "--in", "velocity:Q.x,velocity:P.y"])
     err = capsys.readouterr().err
     assert code == 2 and "velocity:Q.x" in err and "Traceback" not in err
+
+
+def test_rpr_im_locus_has_no_curve_the_loci_share_only_points():
+    """3-RPR at constant orientation: IM ⊂ DKP-input ∩ DKP-output, which share only the three points
+    where a leg has zero length (O = A_k − c_k): the IM locus has no curve, decided without the minors."""
+    from symkin.symbolic.loci import _one_real_point
+
+    mech = symkin.read_model(RPR)
+    loci = implicit_loci(mech, ("velocity:O.x", "velocity:O.y"), hold=("rotation:platform",))
+    inp, out, im = loci["DKP-input"], loci["DKP-output"], loci["IM"]
+    shared = {sp.srepr(f.polynomial) for f in inp.factors} & {sp.srepr(f.polynomial) for f in out.factors}
+    points = [f.polynomial for f in out.factors]
+    assert len(shared) == 3 and all(_one_real_point(p, (xo, yo)) for p in points)
+    # each shared factor is (O − (A_k − c_k))² up to a constant: one real point, at a zero-length leg
+    zeros = {tuple(sp.solve([sp.diff(p, xo), sp.diff(p, yo)], [xo, yo]).values()) for p in points}
+    assert zeros == {(1, sp.Rational(1, 2)), (sp.Rational(19, 4), sp.Rational(1, 4)), (2, 4)}
+    conic = [f.polynomial for f in inp.factors if f.degree == 2 and "conic" in f.meaning]
+    assert len(conic) == 1 and not _one_real_point(conic[0], (xo, yo))
+    assert im.factors == () and "one real point" in im.note and not loci.skipped
+    assert not _one_real_point(xo ** 2 + yo ** 2 - 1, (xo, yo)) and _one_real_point(3 * (xo - 1) ** 2 + 3 * yo ** 2, (xo, yo))
