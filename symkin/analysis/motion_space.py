@@ -178,9 +178,10 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)
     v_free = vt[rank:].T
-    v = pl.embed @ v_free  # zero rows for the fixed coordinates
-    n_zero = jf.shape[1] - s.size  # structural zeros of a wide J_r
-    singular = np.concatenate([np.zeros(n_zero), s[::-1]]) if n_zero else s[::-1]
+    v = np.zeros((pl.free.size, v_free.shape[1]))
+    v[pl.free_index] = v_free  # zero rows for the fixed coordinates
+    singular = np.zeros(jf.shape[1])  # ascending, with the structural zeros of a wide J_r first
+    singular[jf.shape[1] - s.size:] = s[::-1]
     return MotionSpace._of(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
                            threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u, V_free=v_free,
                            _restricted={})
