@@ -80,7 +80,6 @@ class _Plan:
     links: dict            # link name → node positions
     free: np.ndarray       # boolean mask of the free coordinates
     free_index: np.ndarray # their positions (``take`` is faster than boolean indexing)
-    embed: np.ndarray      # (ncoord, n_free) 0/1 matrix: a vector over the free coordinates → all
     bar_i: np.ndarray      # (n_bars,) first node of each bar
     bar_j: np.ndarray      # (n_bars,) second node
     bar_pairs: tuple       # (i, j) of each bar
@@ -109,13 +108,11 @@ def plan(topology) -> _Plan:
     bi, bj = np.array(bar_i, dtype=int), np.array(bar_j, dtype=int)
     free = np.array([n not in fixed for n in node_names for _ in range(dim)], dtype=bool)
     free.setflags(write=False)
-    embed = np.eye(free.size)[:, free]
-    embed.setflags(write=False)
     rows = np.arange(bi.size)[:, None] * ncoord
     comps = np.arange(dim)[None, :]
     return _Plan(dim=dim, ncoord=ncoord, index=index,
                  links={name: tuple(index[n] for n in ns) for name, ns in links},
-                 free=free, free_index=np.flatnonzero(free), embed=embed,
+                 free=free, free_index=np.flatnonzero(free),
                  bar_i=bi, bar_j=bj, bar_pairs=tuple(zip(bar_i, bar_j)),
                  bar_flat=np.concatenate([(rows + dim * bi[:, None] + comps).ravel(),
                                           (rows + dim * bj[:, None] + comps).ravel()]),
