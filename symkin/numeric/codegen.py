@@ -5,10 +5,11 @@ speed-up: the generated functions give the numbers of the in-process CasADi Func
 (bit for bit with the default flags; the tests check it).
 
 * C sources come from CasADi's ``CodeGenerator``; a header documents every function's
-  arguments and results, their order, shapes and storage (:func:`header_notes`).  The loop
-  of ``indicators_batch`` is then replaced by the same instructions on vectors of
-  configurations (:mod:`symkin.numeric.simd`: 2 per instruction with the default flags,
-  4 with AVX, 8 with AVX-512, e.g. :data:`NATIVE_FLAGS`), bit for bit the scalar results.
+  arguments and results, their order, shapes and storage (:func:`header_notes`).  The
+  bodies of ``indicators`` and of its loop ``indicators_batch`` are then replaced by the
+  same instructions on vectors of configurations (:mod:`symkin.numeric.simd`: 2 per
+  instruction with the default flags, 4 with AVX, 8 with AVX-512, e.g. :data:`NATIVE_FLAGS`),
+  bit for bit the scalar results; the kernel is compiled once.
 * The library is built with the system C compiler (``compiler`` argument, else the
   ``SYMKIN_CC`` or ``CC`` environment variable, else ``cc``) and loaded with
   ``casadi.external``.
@@ -252,7 +253,7 @@ def generate_sources(ev, directory, stem: str) -> tuple[Path, Path]:
     for name in GENERATED_FUNCTIONS:
         base = name[: -len("_batch")]
         if name.endswith("_batch") and name in ev._symbolic and base in ev._symbolic:
-            text = simd.patch_batch(text, name, ev._symbolic[base], ev._symbolic[name].size_in(0)[1])
+            text = simd.patch(text, ev._symbolic[base], {base: 1, name: ev._symbolic[name].size_in(0)[1]})
     notes = header_notes(ev)
     write_atomic(h_path, notes + h_path.read_text())
     write_atomic(c_path, notes + text)

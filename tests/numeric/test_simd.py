@@ -54,7 +54,7 @@ def _build(f: ca.Function, n: int, tmp: Path, flags, vector: bool) -> ca.Functio
     c_path = tmp / f"{tag}.c"
     if vector:
         text = simd.patch_batch(c_path.read_text(), fm.name(), f, n)
-        assert f"sk_{fm.name()}" in text
+        assert f"return sk_{f.name()}(arg, res, {n});" in text
         c_path.write_text(text)
     so = codegen.build_library(c_path, tmp / f"{tag}.so", flags=flags)
     return ca.external(fm.name(), str(so))
@@ -139,8 +139,11 @@ def test_compiled_evaluators_use_the_vector_loop(tmp_path, monkeypatch):
     monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
     ev = evaluators(get("rrr_3")).compile()
     assert ev.compiled
-    c_file = Path(ev.library).with_suffix(".c")
-    assert "sk_indicators_batch" in c_file.read_text()
+    text = Path(ev.library).with_suffix(".c").read_text()
+    # one vector kernel serves the single call and the batch loop
+    assert "return sk_indicators(arg, res, 1);" in text
+    assert f"return sk_indicators(arg, res, {ev.functions['indicators_batch'].size_in(0)[1]});" in text
+    assert text.count("static int sk_indicators(") == 1
 
 
 def test_native_flags_key_holds_the_processor():
