@@ -156,12 +156,12 @@ def compiled_map(f: ca.Function, n: int, directory: str, vector: bool = False,
 
 def scalar_loop(ev, cache: str) -> None:
     """Compile ``ev`` with CasADi's own scalar batch loop (the code before the vector loop)."""
-    saved = simd.patch_batch
-    codegen.simd.patch_batch = lambda text, *args: text
+    saved = simd.patch
+    codegen.simd.patch = lambda text, *args: text
     try:
         ev.compile(cache_dir=cache, force=True)
     finally:
-        codegen.simd.patch_batch = saved
+        codegen.simd.patch = saved
 
 
 def native(ev, cache: str) -> None:
@@ -257,6 +257,15 @@ def bench(name: str, n_batch: int, n_loop: int) -> dict:
                 best[label] = max(best[label], rate(lambda: e.batch(q[:n_batch]), n_batch))
         for label, v in best.items():
             r[label.replace("(e) batch", f"(e) batch ({n_batch} configurations)")] = v
+        before = variants.get("(e) batch, generated C, CasADi's scalar loop (before)")
+        if before is not None:  # the single call: the vector kernel at one configuration, and CasADi's
+            calls = {"vector kernel": fast_caller(ev), "CasADi's scalar kernel (before)": fast_caller(before)}
+            single = {k: 0.0 for k in calls}
+            for _ in range(3):
+                for k, c in calls.items():
+                    single[k] = max(single[k], rate(lambda: [c(x) for x in ql], n_loop))
+            for k, v in single.items():
+                r[f"(d) generated C, buffer call (values), {k}"] = v
         results["notes"]["vector loop == scalar loop (bit for bit)"] = all(
             np.array_equal(a, b, equal_nan=True)
             for e in variants.values()
