@@ -17,11 +17,14 @@ configurations (perturbed and projected onto the closure manifold):
 (d) the generated C, loaded with ``casadi.external``: buffer calls (indicator values only)
     and ``ev.indicators_at`` (values and the core's IM / DKP decisions);
 (e) ``ev.batch`` over ``--batch`` configurations (``Function.map`` + decisions), compiled and
-    in-process, and the orthonormal motion-space bases ``ev.map("motion", ...)``;
-(f) the indicator kernel alone, generated C, for both IM eigenvalue kernels: CasADi
-    instructions and CPU µs per configuration (best of several passes over 4096
-    configurations, the two kernels alternating), and the share of configurations each
-    one certifies.
+    in-process, and the orthonormal motion-space bases ``ev.map("motion", ...)``; compiled
+    three ways, alternating: the vector loop of :mod:`symkin.numeric.simd` with the default
+    (portable) flags, CasADi's scalar loop (the code before it), and the vector loop with
+    ``codegen.NATIVE_FLAGS`` (``-march=native``: 4 or 8 configurations per instruction);
+(f) the indicator kernel alone, generated C, for both IM eigenvalue kernels and for the
+    vector loop (default and native flags): CasADi instructions and CPU µs per
+    configuration (best of several passes over 4096 configurations, alternating), and the
+    share of configurations each one certifies.
 
 and the time to generate, compile and load the C of each model (a fresh cache, wall
 time).  Every figure is measured in this run; ratios are to (a).  Rates are per second of
@@ -57,7 +60,7 @@ import sympy as sp  # noqa: E402
 import symkin  # noqa: E402
 from symkin.analysis.batch import fast_caller  # noqa: E402
 from symkin.analysis.batch import evaluators  # noqa: E402
-from symkin.numeric import codegen, sx_linalg  # noqa: E402
+from symkin.numeric import codegen, simd, sx_linalg  # noqa: E402
 from symkin.numeric import evaluators as evaluators_module  # noqa: E402
 
 #: the IM eigenvalue kernels of ``--kernel``: (A = J_e J_eᵀ, r0) → (value, certificate)
@@ -130,15 +133,44 @@ def kernel_function(ev, kernel: str) -> ca.Function:
                        ["q"], list(evaluators_module.INDICATOR_NAMES), {"cse": True})
 
 
-def compiled_map(f: ca.Function, n: int, directory: str) -> ca.Function:
-    """``f`` mapped over ``n`` configurations, generated as C and loaded (default flags)."""
+def compiled_map(f: ca.Function, n: int, directory: str, vector: bool = False,
+                 flags=codegen.DEFAULT_FLAGS, tag: str = "") -> ca.Function:
+    """``f`` mapped over ``n`` configurations, generated as C and loaded.
+
+    ``vector``: the loop replaced by :mod:`symkin.numeric.simd`'s (as ``ev.compile()`` does).
+    """
     fm = f.map(f"{f.name()}_map", "serial", n, [], [])
-    cg = ca.CodeGenerator(f"{f.name()}.c")
+    stem = f"{f.name()}{tag}"
+    cg = ca.CodeGenerator(f"{stem}.c")
     cg.add(fm)
     cg.generate(directory + os.sep)
-    so = codegen.build_library(os.path.join(directory, f"{f.name()}.c"),
-                               os.path.join(directory, f"{f.name()}.so"))
+    c_path = os.path.join(directory, f"{stem}.c")
+    if vector:
+        with open(c_path) as fh:
+            text = simd.patch_batch(fh.read(), fm.name(), f, n)
+        with open(c_path, "w") as fh:
+            fh.write(text)
+    so = codegen.build_library(c_path, os.path.join(directory, f"{stem}.so"), flags=flags)
     return ca.external(fm.name(), str(so))
+
+
+def scalar_loop(ev, cache: str) -> None:
+    """Compile ``ev`` with CasADi's own scalar batch loop (the code before the vector loop)."""
+    saved = simd.patch
+    codegen.simd.patch = lambda text, *args: text
+    try:
+        ev.compile(cache_dir=cache, force=True)
+    finally:
+        codegen.simd.patch = saved
+
+
+def native(ev, cache: str) -> None:
+    """Compile ``ev`` for this processor (``codegen.NATIVE_FLAGS``: wider vectors)."""
+    ev.compile(cache_dir=cache, flags=codegen.NATIVE_FLAGS)
+
+
+def _batch_arrays(res) -> list:
+    return [res.im_indicator, res.dkp_input, res.dkp_output, res.dof, res.path]
 
 
 def kernel_figures(ev, q: np.ndarray, passes: int = 15) -> dict:
@@ -153,6 +185,11 @@ def kernel_figures(ev, q: np.ndarray, passes: int = 15) -> dict:
             cert = np.array(fns[kernel](qs)[1]).ravel()
             out[kernel] = {"instructions": f.n_instructions(), "us": np.inf,
                            "certified": float(np.mean(cert == 1.0))}
+        f = kernel_function(ev, "fused")
+        for label, flags in (("fused, vector loop", codegen.DEFAULT_FLAGS),
+                             ("fused, vector, native", codegen.NATIVE_FLAGS)):
+            fns[label] = compiled_map(f, n, tmp, vector=True, flags=flags, tag=f"_v{len(fns)}")
+            out[label] = dict(out["fused"], us=np.inf)
         for _ in range(passes):  # alternate, keep the best pass of each
             for kernel, fm in fns.items():
                 start = time.process_time()
@@ -206,10 +243,33 @@ def bench(name: str, n_batch: int, n_loop: int) -> dict:
         r["(d) generated C, indicators_at (values + decisions)"] = rate(
             lambda: [ev.indicators_at(x) for x in ql], n_loop)
         ev.batch(q[:10])
-        best = 0.0
-        for _ in range(3):
-            best = max(best, rate(lambda: ev.batch(q[:n_batch]), n_batch))
-        r[f"(e) batch, generated C ({n_batch} configurations)"] = best
+        variants = {"(e) batch, generated C, vector loop": ev}
+        for label, build in (("(e) batch, generated C, CasADi's scalar loop (before)", scalar_loop),
+                             ("(e) batch, generated C, vector loop, -march=native", native)):
+            other = evaluators(mech)
+            with tempfile.TemporaryDirectory() as extra:
+                build(other, extra)
+            if other.compiled:
+                variants[label] = other
+        best = {label: 0.0 for label in variants}
+        for _ in range(3):  # alternate, keep the best round of each
+            for label, e in variants.items():
+                best[label] = max(best[label], rate(lambda: e.batch(q[:n_batch]), n_batch))
+        for label, v in best.items():
+            r[label.replace("(e) batch", f"(e) batch ({n_batch} configurations)")] = v
+        before = variants.get("(e) batch, generated C, CasADi's scalar loop (before)")
+        if before is not None:  # the single call: the vector kernel at one configuration, and CasADi's
+            calls = {"vector kernel": fast_caller(ev), "CasADi's scalar kernel (before)": fast_caller(before)}
+            single = {k: 0.0 for k in calls}
+            for _ in range(3):
+                for k, c in calls.items():
+                    single[k] = max(single[k], rate(lambda: [c(x) for x in ql], n_loop))
+            for k, v in single.items():
+                r[f"(d) generated C, buffer call (values), {k}"] = v
+        results["notes"]["vector loop == scalar loop (bit for bit)"] = all(
+            np.array_equal(a, b, equal_nan=True)
+            for e in variants.values()
+            for a, b in zip(_batch_arrays(ev.batch(q[:5000])), _batch_arrays(e.batch(q[:5000]))))
         r[f"(e) motion-space bases V, generated C ({n_batch} configurations)"] = rate(
             lambda: ev.map("motion", q[:n_batch]), n_batch)
         res = ev.batch(q[:n_batch])
@@ -235,7 +295,7 @@ def report(results: dict) -> str:
         lines.append("(f) indicator kernel, generated C (CPU time, best pass over 4096 configurations):")
         ref = kernels["laguerre-sturm"]["us"]
         for k, v in kernels.items():
-            lines.append(f"  IM kernel {k:15s} {v['instructions']:6d} instructions  {v['us']:6.3f} us/configuration"
+            lines.append(f"  IM kernel {k:22s} {v['instructions']:6d} instructions  {v['us']:6.3f} us/configuration"
                          f"  ({ref / v['us']:.2f}x the laguerre-sturm kernel)  certified {v['certified']:.4f}")
     return "\n".join(lines)
 

@@ -247,3 +247,17 @@ def test_command_module_interface():
         warnings.simplefilter("error")
         parser = argparse.ArgumentParser()
         codegen_command.add_arguments(parser)
+
+
+@needs_cc
+@pytest.mark.parametrize("n", [200, 1024 + 300])  # below one block, and a block plus a padded rest
+def test_padded_last_block_gives_identical_numbers(n, cache):
+    """A last partial block goes through the generated loop padded; the numbers do not change."""
+    ev = evaluators(get("rrr_3"))
+    q = _configurations(ev, n, 11)
+    before = ev.map("indicators", q)
+    ev.compile()
+    after = ev.map("indicators", q)
+    for key in before:
+        np.testing.assert_array_equal(after[key], before[key], err_msg=key)
+    assert after["im"].shape[0] == n
