@@ -61,6 +61,7 @@ _PRELUDE = """
 #endif
 typedef double sk_v __attribute__((vector_size(8 * SK_LANES)));
 typedef long long sk_m __attribute__((vector_size(8 * SK_LANES)));
+/* comparisons give -1 / 0 per lane; the casts name the mask type (GCC and Clang differ in it) */
 /* constants in every lane (initialisers: exact for -0, inf and NaN, and cheap to compile) */
 #if SK_LANES == 2
 #define sk_splat(c) ((sk_v){(c), (c)})
@@ -78,10 +79,16 @@ static inline sk_v sk_fabs(sk_v x) { return (sk_v)((sk_m)x & sk_msplat(0x7ffffff
 static inline sk_v sk_sqrt(sk_v x) { sk_v r; int l; for (l = 0; l < SK_LANES; ++l) r[l] = sqrt(x[l]); return r; }
 /* C99 fmax / fmin as x86-64 glibc (maxsd / minsd): the second argument on ties such as
    (+0, -0), the other argument when one is NaN */
-static inline sk_v sk_fmax(sk_v x, sk_v y) { return sk_sel(x > y, x, sk_sel(x <= y, y, sk_sel(y != y, x, y))); }
-static inline sk_v sk_fmin(sk_v x, sk_v y) { return sk_sel(x < y, x, sk_sel(x >= y, y, sk_sel(y != y, x, y))); }
+static inline sk_v sk_fmax(sk_v x, sk_v y) {
+  return sk_sel((sk_m)(x > y), x, sk_sel((sk_m)(x <= y), y, sk_sel((sk_m)(y != y), x, y)));
+}
+static inline sk_v sk_fmin(sk_v x, sk_v y) {
+  return sk_sel((sk_m)(x < y), x, sk_sel((sk_m)(x >= y), y, sk_sel((sk_m)(y != y), x, y)));
+}
 /* casadi_sign: x<0 ? -1 : x>0 ? 1 : x */
-static inline sk_v sk_sign(sk_v x) { return sk_sel(x < 0, sk_splat(-1.), sk_sel(x > 0, sk_splat(1.), x)); }
+static inline sk_v sk_sign(sk_v x) {
+  return sk_sel((sk_m)(x < 0), sk_splat(-1.), sk_sel((sk_m)(x > 0), sk_splat(1.), x));
+}
 /* lane l reads configuration c[l] (its input i has `stride` entries); a NULL input reads zeros */
 static inline sk_v sk_load(const casadi_real* a, const casadi_int* c, casadi_int stride, casadi_int nz) {
   sk_v r; int l; for (l = 0; l < SK_LANES; ++l) r[l] = a ? a[c[l] * stride + nz] : 0; return r;
@@ -104,15 +111,16 @@ def _expr(op: int, a: list[str], const: float) -> str:
     if op in _BIN:
         return f"{a[0]} {_BIN[op]} {a[1]}"
     if op in _CMP:
-        return f"sk_bool({a[0]} {_CMP[op]} {a[1]})"
+        return f"sk_bool((sk_m)({a[0]} {_CMP[op]} {a[1]}))"
     unary = {ca.OP_NEG: "-{0}", ca.OP_SQ: "{0} * {0}", ca.OP_TWICE: "2. * {0}", ca.OP_INV: "1. / {0}",
              ca.OP_SQRT: "sk_sqrt({0})", ca.OP_FABS: "sk_fabs({0})", ca.OP_SIGN: "sk_sign({0})",
-             ca.OP_NOT: "sk_bool({0} == 0)", ca.OP_ASSIGN: "{0}"}
+             ca.OP_NOT: "sk_bool((sk_m)({0} == 0))", ca.OP_ASSIGN: "{0}"}
     if op in unary:
         return unary[op].format(*a)
     binary = {ca.OP_FMAX: "sk_fmax({0}, {1})", ca.OP_FMIN: "sk_fmin({0}, {1})",
-              ca.OP_AND: "sk_bool(({0} != 0) & ({1} != 0))", ca.OP_OR: "sk_bool(({0} != 0) | ({1} != 0))",
-              ca.OP_IF_ELSE_ZERO: "(sk_v)((sk_m){1} & ({0} != 0))"}
+              ca.OP_AND: "sk_bool((sk_m)({0} != 0) & (sk_m)({1} != 0))",
+              ca.OP_OR: "sk_bool((sk_m)({0} != 0) | (sk_m)({1} != 0))",
+              ca.OP_IF_ELSE_ZERO: "(sk_v)((sk_m){1} & (sk_m)({0} != 0))"}
     if op in binary:
         return binary[op].format(*a)
     if op == ca.OP_CONST:
