@@ -211,6 +211,9 @@ def header_notes(ev) -> str:
         "Calling convention (CasADi): int NAME(const casadi_real** arg, casadi_real** res,",
         "casadi_int* iw, casadi_real* w, int mem); arg[i] / res[i] point to dense column-major",
         "arrays of the shapes below; work sizes from NAME_work() or NAME_SZ_* macros.",
+        "indicators and indicators_batch run one vector kernel (symkin.numeric.simd: 2, 4 or 8",
+        "configurations per instruction by the target, the scalar results bit for bit);",
+        "compile with -DSYMKIN_NO_VECTOR for CasADi's scalar code.",
         "",
         f"q ({len(man['q'])} entries, in this order):",
     ]

@@ -66,7 +66,8 @@ def _bits(a: np.ndarray) -> np.ndarray:
 
 
 def _widths() -> list[tuple[str, tuple]]:
-    out = [("sse2 (2 lanes)", codegen.DEFAULT_FLAGS)]
+    out = [("sse2 (2 lanes)", codegen.DEFAULT_FLAGS),
+           ("no vector code (-DSYMKIN_NO_VECTOR: CasADi's bodies)", codegen.DEFAULT_FLAGS + ("-DSYMKIN_NO_VECTOR",))]
     flags = _cpu_flags()
     if "avx2" in flags:
         out.append(("avx2 (4 lanes)", codegen.DEFAULT_FLAGS + ("-mavx2",)))
