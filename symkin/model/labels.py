@@ -86,13 +86,14 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
             "velocity": tuple(mech.free_nodes)}
 
 
-def parse_label(mech: Mechanism, label: str) -> CoordinateLabel:
+def parse_label(mech: Mechanism, label: str, what: str = "input",
+                lead: str = "a path can be driven by") -> CoordinateLabel:
     """The coordinate named ``label`` (``rotation:crank``, ``slide:piston``, ``velocity:P.x`` ...).
 
     Matches the model's input labels first, then its output labels, then any rotation of a
     moving link (planar), slide of a slider or velocity component of a free node (see
     :func:`accepted_labels`); an unknown label raises a :class:`SymkinError` that lists
-    what is accepted.
+    what is accepted: "unknown ``what`` 'label'; ``lead`` ..." (a path's input by default).
 
     >>> from symkin.model.catalogue import get
     >>> c = parse_label(get("five_bar"), "velocity:P.y")
@@ -113,11 +114,11 @@ def parse_label(mech: Mechanism, label: str) -> CoordinateLabel:
             pass
     if kind == "velocity" and target in mech.free_nodes and comp in AXES[: mech.dim]:
         return coordinate_labels(mech, [Parameter("velocity", (target,), component=comp)])[0]
-    raise SymkinError(f"unknown input {label!r}; {accepted_text(mech)}")
+    raise SymkinError(f"unknown {what} {label!r}; {accepted_text(mech, lead)}")
 
 
-def accepted_text(mech: Mechanism) -> str:
-    """The accepted labels of ``mech`` in words (for error messages)."""
+def accepted_text(mech: Mechanism, lead: str = "a path can be driven by") -> str:
+    """The accepted labels of ``mech`` in words (for error messages), after ``lead``."""
     a = accepted_labels(mech)
     parts = [f"the model's inputs ({', '.join(a['inputs']) or 'none'})"]
     if a["outputs"]:
@@ -128,7 +129,7 @@ def accepted_text(mech: Mechanism) -> str:
         parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
     if a["velocity"]:
         parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
-    return "a path can be driven by " + "; ".join(parts)
+    return f"{lead} " + "; ".join(parts)
 
 
 def parse_hold(text: str) -> tuple[str, float | None]:

@@ -75,6 +75,9 @@ from symkin.symbolic.conditions import DerivationTimeout
 from symkin.symbolic.symbols import coordinate_symbol
 from symkin.tolerances import Tolerances
 
+#: the lead of the list of accepted labels in a bad-label message
+_LOCUS_LABELS = "a locus can be written in"
+
 __all__ = ["LociError", "LocusFactor", "Locus", "Loci", "implicit_loci", "closure_polynomials", "KINDS"]
 
 #: the kinds of loci, in the order derived
@@ -852,15 +855,20 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
     if unknown:
         raise SymkinError(f"unknown locus kind(s) {', '.join(unknown)}; use {', '.join(KINDS)}")
     tol = Tolerances.of(tolerances)
-    coords = [parse_label(mech, v) for v in variables]
+    coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in variables]
     pairs = [parse_hold(h) if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1]))
              for h in hold]
-    held = [parse_label(mech, label) for label, _ in pairs]
+    held = [parse_label(mech, label, "coordinate", _LOCUS_LABELS) for label, _ in pairs]
     labels = [c.label for c in coords + held]
     twice = sorted({lab for lab in labels if labels.count(lab) > 1})
     if twice:
         raise SymkinError(f"{', '.join(twice)} named twice (as variable or hold); each coordinate can be fixed once")
     f = mech.mobility_value
+    if f < 2:
+        raise SymkinError(f"{mech.name}: F = {f}: the configurations of a mechanism with fewer than 2 degrees of "
+                          "freedom do not fill a plane of two coordinates, so there is no singularity curve in "
+                          "it (its singular configurations are isolated points: symkin singularities MODEL "
+                          "finds them all for F = 1)")
     if len(held) != f - 2:
         raise SymkinError(f"{mech.name}: F = {f}, so two variables need {f - 2} held coordinate(s) (--hold LABEL); "
                           f"{len(held)} given")

@@ -290,6 +290,21 @@ def test_cli_bad_label_exit_2(capsys, five_bar_file):
     code = main(["conditions", str(five_bar_file), "--in", "velocity:Q.x,velocity:P.y"])
     err = capsys.readouterr().err
     assert code == 2 and "velocity:Q.x" in err and "Traceback" not in err
+    assert "unknown coordinate 'velocity:Q.x'; a locus can be written in the model's inputs" in err
+    assert "velocity:<node>.<x|y> for a free node (" in err and "path" not in err
+
+
+def test_cli_one_dof_says_there_is_no_curve(capsys, tmp_path):
+    """F = 1 (the four-bar, the spatial RSSR): no singularity curve in two coordinates; the message says why."""
+    from symkin.cli import main
+
+    for name, labels in (("fourbar_appendix", "rotation:crank,rotation:rocker"),
+                         ("rssr", "rotation:crank[O1-O1b],rotation:rocker[O2-O2b]")):
+        path = symkin.write_model(catalogue.get(name), tmp_path / f"{name}.toml")
+        code = main(["conditions", str(path), "--in", labels])
+        err = capsys.readouterr().err
+        assert code == 2 and "F = 1" in err and "symkin singularities" in err and "Traceback" not in err
+        assert "-1 held" not in err
 
 
 def test_rpr_im_locus_has_no_curve_the_loci_share_only_points():
