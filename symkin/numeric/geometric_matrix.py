@@ -505,12 +505,16 @@ def twist_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.
 
 
 def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
+    """Unit vector of a rotation axis: two node names (from the first to the second) or a vector."""
     if isinstance(axis[0], str):
-        xyz = mech.coordinates()
-        vec = np.subtract(xyz[axis[1]], xyz[axis[0]])
+        pl = plan(mech.topology)
+        nodes = mech.nodes
+        (a, ca), (b, cb) = nodes[pl.index[axis[0]]], nodes[pl.index[axis[1]]]
+        vec = [q - p for p, q in zip(ca, cb)]
     else:
-        vec = np.array(axis, dtype=float)
-    return vec / np.linalg.norm(vec)
+        vec = [float(v) for v in axis]
+    n = math.sqrt(sum(v * v for v in vec))
+    return np.array([v / n for v in vec])
 
 
 def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = None) -> np.ndarray:
