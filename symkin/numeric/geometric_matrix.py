@@ -419,6 +419,17 @@ def rotation_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> 
     # spatial: v_k - v_i = -[r_k]x ω  for every other node k  →  ω = B⁺ (v_k - v_i)
     i = idx[0]
     others = idx[1:]
+    xl = x.tolist()
+    xi = xl[i]
+    fast = _spatial_rotation_blocks([[a - b for a, b in zip(xl[k], xi)] for k in others])
+    if fast is not None:  # node k gets its block, the first node minus their sum (plain floats)
+        out = [[0.0] * ncoord for _ in range(3)]
+        for block, k in zip(fast, others):
+            for row, brow in zip(out, block):
+                for c in range(3):
+                    row[3 * k + c] += brow[c]
+                    row[3 * i + c] -= brow[c]
+        return np.array(out)
     blocks = []
     for k in others:
         r = x[k] - x[i]
@@ -432,6 +443,47 @@ def rotation_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> 
         rows[:, 3 * k: 3 * k + 3] += block
         rows[:, 3 * i: 3 * i + 3] -= block
     return rows
+
+
+#: the normal equations of a link's angular velocity are used when ``λ_min/λ_max`` of ``BᵀB``
+#: is certainly above this (their error is then below about ``ε / _WELL_CONDITIONED``)
+_WELL_CONDITIONED = 1e-4
+
+
+def _spatial_rotation_blocks(r: list) -> list | None:
+    """``B⁺`` of a spatial link by its normal equations, block by node, or None when not well conditioned.
+
+    ``r`` are the other nodes relative to the first (k triples of floats); ``B`` stacks
+    ``−[r_k]×``, so ``BᵀB = Σ (|r_k|² I − r_k r_kᵀ)`` (3 × 3, the link's inertia-like
+    matrix, positive definite unless the nodes are collinear) and the block of node k of
+    ``B⁺ = (BᵀB)⁻¹ Bᵀ`` is ``(BᵀB)⁻¹ [r_k]×`` (returned as k nested 3 × 3 lists).  Used
+    when ``4 det / tr³`` (a lower bound on ``λ_min/λ_max``: ``λ_min >= det / (λ_max
+    λ_mid)`` and ``λ_max λ_mid <= (tr/2)²``) exceeds :data:`_WELL_CONDITIONED`; otherwise
+    the SVD-based pseudo-inverse decides (rods, nearly collinear links).  Plain floats: a
+    link has a few nodes.
+    """
+    sxx = sxy = sxz = syy = syz = szz = 0.0
+    for x, y, z in r:
+        sxx += x * x
+        sxy += x * y
+        sxz += x * z
+        syy += y * y
+        syz += y * z
+        szz += z * z
+    a, b, c = syy + szz, sxx + szz, sxx + syy  # the diagonal of |r|² I − r rᵀ summed
+    d, e, f = -sxy, -sxz, -syz  # (0, 1), (0, 2), (1, 2)
+    tr = a + b + c
+    # cofactors of the symmetric [[a, d, e], [d, b, f], [e, f, c]]
+    c00, c01, c02 = b * c - f * f, e * f - d * c, d * f - b * e
+    det = a * c00 + d * c01 + e * c02
+    if not (tr > 0.0 and 4.0 * det > _WELL_CONDITIONED * tr ** 3):
+        return None
+    c11, c12, c22 = a * c - e * e, d * e - a * f, a * b - d * d
+    inv = [[c00 / det, c01 / det, c02 / det], [c01 / det, c11 / det, c12 / det], [c02 / det, c12 / det, c22 / det]]
+    out = []
+    for x, y, z in r:  # (BᵀB)⁻¹ [r]×,  [r]× = [[0, −z, y], [z, 0, −x], [−y, x, 0]]
+        out.append([[m1 * z - m2 * y, m2 * x - m0 * z, m0 * y - m1 * x] for m0, m1, m2 in inv])
+    return out
 
 
 def _rod_pinv(r: np.ndarray, n_others: int) -> np.ndarray:
@@ -453,12 +505,16 @@ def twist_rows(mech: Mechanism, link: str, xyz: np.ndarray | None = None) -> np.
 
 
 def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
+    """Unit vector of a rotation axis: two node names (from the first to the second) or a vector."""
     if isinstance(axis[0], str):
-        xyz = mech.coordinates()
-        vec = np.subtract(xyz[axis[1]], xyz[axis[0]])
+        pl = plan(mech.topology)
+        nodes = mech.nodes
+        (a, ca), (b, cb) = nodes[pl.index[axis[0]]], nodes[pl.index[axis[1]]]
+        vec = [q - p for p, q in zip(ca, cb)]
     else:
-        vec = np.array(axis, dtype=float)
-    return vec / np.linalg.norm(vec)
+        vec = [float(v) for v in axis]
+    n = math.sqrt(sum(v * v for v in vec))
+    return np.array([v / n for v in vec])
 
 
 def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = None) -> np.ndarray:

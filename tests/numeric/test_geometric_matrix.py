@@ -130,3 +130,34 @@ def test_rod_rotation_is_the_normal_angular_velocity():
     x = np.array([[0, 0, 0], [2, 0, 0]], float)
     xdot = np.cross(omega, x).ravel()
     np.testing.assert_allclose(rotation_rows(m, "rod") @ xdot, [0.0, -1.1, 0.4], atol=1e-14)
+
+
+@pytest.mark.parametrize("k", [3, 4, 6])
+def test_spatial_rotation_rows_both_ways_recover_omega(k, monkeypatch):
+    """The normal-equation rows of a well-conditioned link give ω of any rigid velocity field and equal
+    the pseudo-inverse rows (the fast path switched off) to 1e-12; nearly collinear links keep the latter."""
+    from symkin.numeric import geometric_matrix as gm
+
+    rng = np.random.default_rng(k)
+    for trial in range(60):
+        base = rng.normal(size=3)
+        if trial % 3 == 0:  # nearly collinear: the SVD path must decide
+            pts = base + np.outer(rng.uniform(-1, 1, k), rng.normal(size=3)) + 1e-6 * rng.normal(size=(k, 3))
+        else:
+            pts = base + rng.normal(size=(k, 3)) * 10.0 ** rng.uniform(-3, 3)
+        nodes = {f"N{j}": list(p) for j, p in enumerate(pts)}
+        m = Mechanism.from_dict({"dim": 3, "nodes": nodes, "links": {"body": list(nodes)}})
+        omega, vel = rng.normal(size=3), rng.normal(size=3)
+        xdot = (vel + np.cross(omega, pts)).ravel()
+        fast_rows = gm.rotation_rows(m, "body")
+        with monkeypatch.context() as mp:
+            mp.setattr(gm, "_WELL_CONDITIONED", np.inf)  # always the pseudo-inverse
+            svd_rows = gm.rotation_rows(m, "body")
+        scale = np.abs(svd_rows).max()
+        np.testing.assert_allclose(fast_rows, svd_rows, rtol=0, atol=1e-12 * scale)
+        r = (pts[1:] - pts[0]).tolist()
+        if trial % 3 == 0:
+            assert gm._spatial_rotation_blocks(r) is None  # (and the rows are those of before)
+        else:
+            assert gm._spatial_rotation_blocks(r) is not None
+            np.testing.assert_allclose(fast_rows @ xdot, omega, rtol=1e-9, atol=1e-9 * np.abs(omega).max())
