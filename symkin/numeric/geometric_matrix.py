@@ -462,6 +462,11 @@ def _spatial_rotation_blocks(r: list) -> list | None:
     the SVD-based pseudo-inverse decides (rods, nearly collinear links).  Plain floats: a
     link has a few nodes.
     """
+    # in units of the largest component: no overflow or underflow at the ends of the coordinate range
+    h = max(abs(v) for row in r for v in row)
+    if not h > 0.0:
+        return None
+    r = [[v / h for v in row] for row in r]
     sxx = sxy = sxz = syy = syz = szz = 0.0
     for x, y, z in r:
         sxx += x * x
@@ -476,10 +481,11 @@ def _spatial_rotation_blocks(r: list) -> list | None:
     # cofactors of the symmetric [[a, d, e], [d, b, f], [e, f, c]]
     c00, c01, c02 = b * c - f * f, e * f - d * c, d * f - b * e
     det = a * c00 + d * c01 + e * c02
-    if not (tr > 0.0 and 4.0 * det > _WELL_CONDITIONED * tr ** 3):
+    if not (tr > 0.0 and 4.0 * det > _WELL_CONDITIONED * tr * tr * tr):
         return None
     c11, c12, c22 = a * c - e * e, d * e - a * f, a * b - d * d
-    inv = [[c00 / det, c01 / det, c02 / det], [c01 / det, c11 / det, c12 / det], [c02 / det, c12 / det, c22 / det]]
+    dh = det * h  # B = h B' for the scaled r': B⁺ = B'⁺ / h
+    inv = [[c00 / dh, c01 / dh, c02 / dh], [c01 / dh, c11 / dh, c12 / dh], [c02 / dh, c12 / dh, c22 / dh]]
     out = []
     for x, y, z in r:  # (BᵀB)⁻¹ [r]×,  [r]× = [[0, −z, y], [z, 0, −x], [−y, x, 0]]
         out.append([[m1 * z - m2 * y, m2 * x - m0 * z, m0 * y - m1 * x] for m0, m1, m2 in inv])
