@@ -207,9 +207,13 @@ def _centred_gram_3d(pts: list) -> tuple[float, ...]:
         sz += pz
     mx, my, mz = sx / k, sy / k, sz / k
     h = max(max(abs(px - mx), abs(py - my), abs(pz - mz)) for px, py, pz in pts) or 1.0
+    return _moments_3d([((px - mx) / h, (py - my) / h, (pz - mz) / h) for px, py, pz in pts])
+
+
+def _moments_3d(rows) -> tuple[float, ...]:
+    """``(Σxx, Σxy, Σxz, Σyy, Σyz, Σzz)`` of 3-vectors ``rows`` (plain floats)."""
     xx = xy = xz = yy = yz = zz = 0.0
-    for px, py, pz in pts:
-        dx, dy, dz = (px - mx) / h, (py - my) / h, (pz - mz) / h
+    for dx, dy, dz in rows:
         xx += dx * dx
         xy += dx * dy
         xz += dx * dz
@@ -467,14 +471,7 @@ def _spatial_rotation_blocks(r: list) -> list | None:
     if not h > 0.0:
         return None
     r = [[v / h for v in row] for row in r]
-    sxx = sxy = sxz = syy = syz = szz = 0.0
-    for x, y, z in r:
-        sxx += x * x
-        sxy += x * y
-        sxz += x * z
-        syy += y * y
-        syz += y * z
-        szz += z * z
+    sxx, sxy, sxz, syy, syz, szz = _moments_3d(r)
     a, b, c = syy + szz, sxx + szz, sxx + syy  # the diagonal of |r|² I − r rᵀ summed
     d, e, f = -sxy, -sxz, -syz  # (0, 1), (0, 2), (1, 2)
     tr = a + b + c

@@ -64,7 +64,8 @@ __all__ = ["Branch", "Circuit", "CrossCheck", "SingularConfiguration", "Singular
 #: largest input change per continuation step of a circuit (radians), so that the plot is smooth
 MAX_ANGLE_STEP = math.radians(2.0)
 #: default ``max_paths`` of one square DKP system: the Watt six-bar's track 64 each (a few seconds), the
-#: double butterfly's 256 (34 s) and 768 (a degree-6 factor of 2295 terms: not finished after 19 min)
+#: double butterfly's 768 (a degree-6 factor of 2295 terms: not finished after 19 min; its crank block, a
+#: constant on the curve, is dropped by :func:`~symkin.solutions.dkp_system.dkp_system`)
 MAX_PATHS = 600
 #: a homotopy endpoint with ``max |Im v|`` above this (length scales) is complex
 NEAR_REAL = 1e-4
