@@ -62,18 +62,21 @@ def test_json_contract_and_text(capsys):
     x = m.coordinates()
     th = math.atan2(x["B"][1], x["B"][0]) + math.radians(30)
     l1 = math.dist(x["A"], x["B"])
+    # Newton stops at a closure residual of 1e-12 (length scales): coordinates agree to about that, times
+    # the conditioning; Bertini's random start changes their last bits between runs (1.4e-12 seen)
+    close = 1e-11 * m.length_scale
     for s in data["solutions"]:
         assert set(s) >= {"configuration", "signs", "residual"}
         assert s["residual"] <= 1e-10
-        assert s["configuration"]["B"] == pytest.approx([l1 * math.cos(th), l1 * math.sin(th)], abs=1e-12)
+        assert s["configuration"]["B"] == pytest.approx([l1 * math.cos(th), l1 * math.sin(th)], abs=close)
         assert math.dist(s["configuration"]["B"], s["configuration"]["C"]) == pytest.approx(
-            math.dist(x["B"], x["C"]), abs=1e-12)
+            math.dist(x["B"], x["C"]), abs=close)
         assert set(s["signs"]) == {"dkp_input", "dkp_output"}
     # radians give the same configurations
     code, out_rad, _ = run(capsys, "modes", FOURBAR, "--at", f"rotation:crank={math.radians(30)!r}",
                            "--unit", "rad", "--json")
     got = sorted(np.concatenate([s["configuration"]["C"] for s in json.loads(out_rad)["solutions"]]))
     assert got == pytest.approx(sorted(np.concatenate([s["configuration"]["C"] for s in data["solutions"]])),
-                                abs=1e-12)
+                                abs=close)
     code, text, _ = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--analyze")
     assert code == 0 and "2 real solution(s)" in text and "2 paths tracked" in text and "analysis: L = 1" in text
