@@ -487,7 +487,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
     end_test = TestFunction("end", lambda y, t: (input_of(y) - stop) / scale_in)
     points: list[PathPoint] = []
     found: list[dict] = []  # located events: y, t, s, value, evaluations, tests, input
-    reason, message = "max_arclength", f"arclength limit {max_s:g} (model length units) reached"
+    reason, message = "max_arclength", f"arclength limit {max_s:g} (units of the model's length scale) reached"
     history: list[tuple[CurvePoint, dict, float]] = []
 
     im_test = next((tf for tf in tests if tf.name == "IM"), None)
