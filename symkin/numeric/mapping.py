@@ -71,24 +71,7 @@ def map_function(ev, name: str, configurations, p=None) -> dict[str, np.ndarray]
         # whole blocks through the generated loop (no CasADi Map layer); in generated code a
         # last block of at least 1/_PAD_SHARE of the size is padded (cheaper than the Map layer)
         buf, trig = _buffer(ev, f"{name}_batch")
-        start = (n // size) * size
-        for s0 in range(0, start, size):
-            buf.set_arg(0, memoryview(q[s0: s0 + size]))
-            for i, o in enumerate(outs):
-                buf.set_res(i, memoryview(o[s0: s0 + size]))
-            trig()
-        if ev.compiled and n - start >= size // _PAD_SHARE:
-            pad_q = np.empty((size, q.shape[1]))
-            pad_q[: n - start] = q[start:]
-            pad_q[n - start:] = q[start]
-            pad_out = [np.empty((size,) + o.shape[1:]) for o in outs]
-            buf.set_arg(0, memoryview(pad_q))
-            for i, o in enumerate(pad_out):
-                buf.set_res(i, memoryview(o))
-            trig()
-            for o, po in zip(outs, pad_out):
-                o[start:] = po[: n - start]
-            start = n
+        start = _run_blocks(buf, trig, q, outs, size, pad=ev.compiled and n % size >= size // _PAD_SHARE)
     if start < n:
         _evaluate(ev, name, q[start:], [o[start:] for o in outs], p)
     result = {}
@@ -119,26 +102,36 @@ def _evaluate(ev, name: str, q: np.ndarray, outs: list, p) -> None:
         pvec = np.ascontiguousarray(ev.p0 if p is None else np.asarray(p, dtype=float).ravel())
         if pvec.size != f.numel_in(1):
             raise SymkinError(f"p must have {f.numel_in(1)} entries ({', '.join(ev.p_labels)})")
-    pad_q = pad_out = None
-    for start in range(0, n, size):
+    _run_blocks(buf, trig, q, outs, size, pvec, pad=True)
+
+
+def _run_blocks(buf, trig, q: np.ndarray, outs: list, size: int, pvec=None, pad: bool = False) -> int:
+    """Run a ``size``-configuration Function buffer over the rows of ``q`` into ``outs``; rows done.
+
+    Whole blocks are views of ``q`` and ``outs``; with ``pad`` a last partial block is run
+    padded with copies of its first row (and only its own rows are kept).
+    """
+    n = q.shape[0]
+    if pvec is not None:
+        buf.set_arg(1, memoryview(pvec))
+    full = (n // size) * size
+    for start in range(0, full + (size if pad and full < n else 0), size):
         stop = min(start + size, n)
         if stop - start == size:
             qa, ra = q[start:stop], [o[start:stop] for o in outs]
-        else:  # last partial chunk: pad
-            pad_q = np.zeros((size, q.shape[1]))
-            pad_q[: stop - start] = q[start:stop]
-            pad_q[stop - start:] = q[start]
-            pad_out = [np.empty((size,) + o.shape[1:]) for o in outs]
-            qa, ra = pad_q, pad_out
+        else:
+            qa = np.empty((size, q.shape[1]))
+            qa[: stop - start] = q[start:stop]
+            qa[stop - start:] = q[start]
+            ra = [np.empty((size,) + o.shape[1:]) for o in outs]
         buf.set_arg(0, memoryview(qa))
-        if pvec is not None:
-            buf.set_arg(1, memoryview(pvec))
         for i, o in enumerate(ra):
             buf.set_res(i, memoryview(o))
         trig()
-        if pad_out is not None and ra is pad_out:
-            for o, po in zip(outs, pad_out):
+        if stop - start < size:
+            for o, po in zip(outs, ra):
                 o[start:stop] = po[: stop - start]
+    return n if pad else full
 
 
 class _Single:

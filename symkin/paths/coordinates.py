@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from symkin.errors import SymkinError
-from symkin.model.labels import CoordinateLabel, accepted_labels, accepted_text, parse_label
+from symkin.model.labels import CoordinateLabel, accepted_labels, parse_label
 from symkin.model.labels import _driving as _driving_labels
 from symkin.model.labels import coordinate_labels
 from symkin.model.mechanism import AXES, Mechanism, Parameter
@@ -146,22 +146,8 @@ def _driving(mech: Mechanism, params) -> list[InputCoordinate]:
     return [InputCoordinate.of(c) for c in _driving_labels(mech, params)]
 
 
-def accepted_input_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
-    """What :func:`parse_input_label` accepts for ``mech``, by kind (what an error message lists).
-
-    Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
-    path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
-    (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
-    One definition: :func:`symkin.model.labels.accepted_labels`.
-
-    Examples
-    --------
-    >>> from symkin.model.catalogue import get
-    >>> accepted = accepted_input_labels(get("fourbar_appendix"))
-    >>> accepted["inputs"], accepted["outputs"], accepted["rotation"]
-    (('rotation:crank',), ('rotation:rocker',), ('crank', 'coupler', 'rocker'))
-    """
-    return accepted_labels(mech)
+#: what :func:`parse_input_label` accepts, by kind: :func:`symkin.model.labels.accepted_labels` itself
+accepted_input_labels = accepted_labels
 
 
 def parse_input_label(mech: Mechanism, label: str) -> InputCoordinate:
@@ -174,9 +160,6 @@ def parse_input_label(mech: Mechanism, label: str) -> InputCoordinate:
     :func:`symkin.model.labels.parse_label` (one definition, shared with the symbolic stage).
     """
     return InputCoordinate.of(parse_label(mech, label))
-
-
-_accepted_text = accepted_text
 
 
 @dataclass(frozen=True)
