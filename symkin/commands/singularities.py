@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import sys
 import warnings
 
 from symkin.commands import Output
@@ -30,8 +31,20 @@ def add_arguments(p) -> None:
                    help="input values (in --unit, from the model's configuration) at which all assembly modes "
                         "seed the traces, instead of the default ones (faster than the rounds; a circuit whose "
                         "input range holds none of them and no solution of a square system is missed)")
+    p.add_argument("--no-progress", action="store_true", help="no progress line on the terminal")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the events and their classification (default 1e-8)")
+
+
+def _progress(enabled: bool):
+    """A tqdm counter of homotopies and traces on stderr when it is a terminal (never mixed into stdout)."""
+    if not enabled or not sys.stderr.isatty():
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(desc="singularities", unit=" step", file=sys.stderr, leave=False)
 
 
 def _values(text: str) -> list[float]:
@@ -89,10 +102,17 @@ def run(args) -> Output:
         options = {} if args.max_paths is None else {"max_paths": args.max_paths}
         if args.samples is not None:
             options["samples"] = args.samples
-        with warnings.catch_warnings():
-            # the result carries every warning (the text's "warning:" lines, the JSON's "warnings")
-            warnings.simplefilter("ignore", SingularitiesWarning)
-            result = singularities(mech, tol=args.tol, unit=args.unit, **options)
+        bar = _progress(not args.no_progress)
+        if bar is not None:
+            options["progress"] = lambda what: (bar.set_description_str(what, refresh=False), bar.update())
+        try:
+            with warnings.catch_warnings():
+                # the result carries every warning (the text's "warning:" lines, the JSON's "warnings")
+                warnings.simplefilter("ignore", SingularitiesWarning)
+                result = singularities(mech, tol=args.tol, unit=args.unit, **options)
+        finally:
+            if bar is not None:
+                bar.close()
     except SymkinError as exc:
         raise _in_file(exc, args.model)
     message = ""

@@ -72,6 +72,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -417,8 +418,10 @@ class _Search:
     """
 
     def __init__(self, mech: Mechanism, tol: Tolerances, in_value: _Values, kind: str, turns: int,
-                 max_arclength: float | None, label: str, unit: str, notes: list[str]):
+                 max_arclength: float | None, label: str, unit: str, notes: list[str],
+                 progress: Callable[[str], None] | None = None):
         self.mech, self.tol, self.in_value, self.kind = mech, tol, in_value, kind
+        self.progress = progress
         self.turns, self.max_arclength, self.label, self.unit, self.notes = turns, max_arclength, label, unit, notes
         self.scale = mech.length_scale
         self.curve = make_curve(mech)
@@ -442,6 +445,8 @@ class _Search:
         stop = 2 * math.pi * self.turns if self.kind == "angle" else 1e6 * self.scale
         steps = int(math.ceil(stop / MAX_ANGLE_STEP)) if self.kind == "angle" else None
         arclength = self.max_arclength if self.max_arclength is not None else 100.0 * self.turns
+        if self.progress is not None:
+            self.progress(f"trace {len(self.paths) + 1} ({origin})")
         x = np.asarray(x, float).reshape(len(self.mech.nodes), self.mech.dim)
         path = trace(self.mech.with_coordinates(x), stop=math.copysign(stop, direction), steps=steps,
                      max_arclength=arclength, tol=self.tol)
@@ -565,7 +570,8 @@ class _Search:
 # ---------------------------------------------------------------------- the entry point
 def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, unit: str = "rad",
                   max_turns: int = 4, max_arclength: float | None = None, max_paths: int = MAX_PATHS,
-                  seed: int = 0, samples: list[float] | None = None) -> Singularities:
+                  seed: int = 0, samples: list[float] | None = None,
+                  progress: Callable[[str], None] | None = None) -> Singularities:
     """Every circuit of a 1-DOF mechanism and every DKP-input, DKP-output and IM configuration on it.
 
     See the module docstring for the method.  Needs the optional extra ``symkin[global]``
@@ -600,6 +606,8 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         critical values (without it; module docstring).  Faster when the rounds would need
         many samples; a circuit whose input range holds none of the values and no critical
         point of the square systems is then missed.
+    progress : callable, optional
+        Called with a short description before each homotopy and each trace (for a progress bar).
 
     Returns
     -------
@@ -646,6 +654,8 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     skipped: dict[str, tuple[int, int, float]] = {}
     for name, c in systems:
         t0 = time.perf_counter()
+        if progress is not None:
+            progress(f"square {name} system")
         system = dkp_system(mech, c, tolerances, closure=closure, seed=seed)
         paths = sum(total_degree(list(e), list(system.unknowns)) for e in system.systems())
         if paths > max_paths:
@@ -666,7 +676,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     # 2-3. seeds (solve_all between consecutive critical input values), the branches through them and
     # through every half-branch of every vertex
     search = _Search(mech, tolerances, in_value, kind, max_turns if kind == "angle" else 1, max_arclength,
-                     drive.label, unit, notes)
+                     drive.label, unit, notes, progress)
     exact = "DKP-input" in roots
     sampled: list[float] = []
     seeds = 0
@@ -674,6 +684,8 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     def sample(v: float) -> None:
         nonlocal seeds
         sampled.append(v)
+        if progress is not None:
+            progress(f"solve_all at {drive.label} = {_fmt(v, kind, unit)}")
         sol = solve_all(mech, {drive.label: v}, unit="rad", tol=tolerances, seed=seed)
         seeds += len(sol.solutions)
         for s_ in sol.solutions:

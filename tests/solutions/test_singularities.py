@@ -379,8 +379,12 @@ def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, 
 def test_samples_replace_the_default_seeds(capsys, tmp_path):
     """--samples: solve_all only there (with the square systems: and the critical points); bad values exit 2."""
     m = catalogue.get("fourbar_appendix")
-    r = singularities(m, unit="deg", samples=[10.0, 200.0])
+    seen: list[str] = []
+    r = singularities(m, unit="deg", samples=[10.0, 200.0], progress=seen.append)
     assert [round(v, 9) for v in r.to_dict()["samples"]] == [10.0, -160.0]
+    assert seen[:2] == ["square DKP-input system", "square DKP-output system"]
+    assert "solve_all at rotation:crank = 10°" in seen and "solve_all at rotation:crank = -160°" in seen
+    assert sum(w.startswith("trace ") for w in seen) == sum(len(c.branches) for c in r.circuits)
     assert len(r.circuits) == 2 and r.agree is True
     path = str(write_model(m, tmp_path / "m.json"))
     with pytest.raises(SystemExit) as exit_:
