@@ -156,7 +156,10 @@ def half_branches(curve, x: np.ndarray, radius: float = HALF_BRANCH_RADIUS, samp
         for _ in range(30):
             y = x + radius * d + comp @ w
             hh, jj = (np.array(v, float) for v in f(y))
-            step = np.linalg.solve(ur.T @ jj @ comp, -(ur.T @ hh.ravel()))
+            try:
+                step = np.linalg.solve(ur.T @ jj @ comp, -(ur.T @ hh.ravel()))
+            except np.linalg.LinAlgError:
+                return math.nan, None
             w = w + step
             if not np.all(np.isfinite(w)) or float(np.max(np.abs(w))) > 1.0:
                 return math.nan, None

@@ -71,7 +71,7 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -104,6 +104,8 @@ MAX_PATHS = 600
 MAX_SEED_ROUNDS = 8
 #: without the square DKP-input system, no two consecutive samples of an angle input are farther apart than this
 MAX_SAMPLE_GAP = math.radians(30.0)
+#: stop reason of a branch cut where it passes a branch point a second time in the same direction
+RETURNED = "returned"
 #: a homotopy endpoint with ``max |Im v|`` above this (length scales) is complex
 NEAR_REAL = 1e-4
 
@@ -161,7 +163,9 @@ class Branch:
     """One traced loop: its seed, its points in input–output space and how its trace ended.
 
     ``inputs`` / ``outputs`` are unwrapped along the trace (radians or model units, measured from
-    the model's configuration); ``full_turn`` says that the input takes every value (a crank).
+    the model's configuration); ``full_turn`` says that the input takes every value (a crank);
+    ``closed`` that the trace closed on itself, or came back to a branch point it had passed in
+    the same direction (``stop_reason`` ``"returned"``: from there on it would retrace itself).
     """
 
     index: int
@@ -425,6 +429,7 @@ class _Search:
         self.turns, self.max_arclength, self.label, self.unit, self.notes = turns, max_arclength, label, unit, notes
         self.scale = mech.length_scale
         self.curve = make_curve(mech)
+        self.radius = _half_branch_radius(mech)
         self.paths: list[tuple[Path, float, np.ndarray]] = []
         self.vertices: list[dict] = []
         self.stations: list[dict] = []
@@ -454,7 +459,8 @@ class _Search:
         self.paths.append((path, offset, _points(path, offset)))
         index = len(self.paths)
         self._vertices_on(index)
-        if path.stop_reason not in ("closed", "unreachable"):
+        path = self._cut_at_return(index)
+        if path.stop_reason not in ("closed", "unreachable", RETURNED):
             why = path.message
             if any(k == index for k, _ in self.event_vertex):
                 why += ("; it passed a branch point, where the continuation may go on along another branch "
@@ -483,10 +489,17 @@ class _Search:
         y = self.curve.y_of(_free(self.mech, conf))
         if self.vertex_at(y) is None:
             x = self.curve.x_of(y)
-            t = tangent(self.curve, y)
-            halves = [point_at(self.curve, CurvePoint(y, sign * t, 0.0), HALF_BRANCH_RADIUS) for sign in (1.0, -1.0)]
-            self.stations.append({"y": y, "input": self.in_value(x), "halves": halves, "resolved": {},
-                                  "paths": set(), "what": "critical point"})
+            sv = np.linalg.svd(self.curve.jacobian(y), compute_uv=False)
+            if sv.size >= y.size - 1 and sv[y.size - 2] <= math.sqrt(self.tol.rank) * max(sv[0], 1.0):
+                self.notes.append(f"the critical point at {self.label} = {_fmt(self.in_value(x), self.kind, self.unit)}"
+                                  " is a singular point of the curve that could not be located as a branch point "
+                                  "of nullity 2: no trace starts from it")
+            else:
+                t = tangent(self.curve, y)
+                halves = [point_at(self.curve, CurvePoint(y, sign * t, 0.0), self.radius) for sign in (1.0, -1.0)]
+                halves = [h for h in halves if float(np.max(np.abs(self.curve.residual(h)))) <= 1e-10]
+                self.stations.append({"y": y, "input": self.in_value(x), "halves": halves, "resolved": {},
+                                      "paths": set(), "what": "critical point"})
         self.resolve()
 
     def resolve(self) -> None:
@@ -505,10 +518,15 @@ class _Search:
                     if float(t @ (y - v["y"])) < 0:
                         t = -t
                     direction = 1.0 if self.curve.drive_rate(y, t) >= 0 else -1.0
-                    index = self.trace_from(xh, direction, f"half-branch {h + 1} of the {v['what']} at "
-                                            f"{self.label} = {_fmt(v['input'], self.kind, self.unit)}")
+                    what = f"half-branch {h + 1} of the {v['what']} at {self.label} = " \
+                           f"{_fmt(v['input'], self.kind, self.unit)}"
+                    try:
+                        index = self.trace_from(xh, direction, what)
+                    except (SymkinError, NotConvergedError) as exc:
+                        self.notes.append(f"{what} could not be traced: {exc}")
                 v["resolved"][h] = index
-                v["paths"].add(index)
+                if index is not None:
+                    v["paths"].add(index)
             k += 1
 
     # ------------------------------------------------------------------ vertices
@@ -523,6 +541,35 @@ class _Search:
             if k is not None:
                 self.event_vertex[(index, e_index)] = k
                 self.vertices[k]["paths"].add(index)
+
+    def _cut_at_return(self, index: int) -> Path:
+        """Branch ``index`` ended where it passes a branch point a second time in the same direction.
+
+        From there on the continuation retraces what it has traced (the LIM branch of the double
+        butterfly, round and round from a tangent contact): the rest is dropped, with its events,
+        and the branch ends with ``stop_reason`` ``"returned"``.
+        """
+        path, offset, _ = self.paths[index - 1]
+        events = path.singular_events()
+        seen: dict[int, np.ndarray] = {}
+        for e_index, e in enumerate(events):
+            k = self.event_vertex.get((index, e_index))
+            if k is None or e.t is None:
+                continue
+            if k in seen and float(seen[k] @ e.t) > 0:
+                cut = e.s
+                kept = tuple(ev for ev in path.events if ev.s <= cut and ev.kind != "end")
+                message = (f"the path came back to the branch point at {self.label} = "
+                           f"{_fmt(self.vertices[k]['input'], self.kind, self.unit)} in the direction it passed "
+                           "it before: from there on it retraces itself")
+                path = replace(path, points=tuple(p for p in path.points if p.s <= cut), events=kept,
+                               stop_reason=RETURNED, message=message)
+                for key in [key for key in self.event_vertex if key[0] == index and key[1] >= len(kept)]:
+                    del self.event_vertex[key]
+                self.paths[index - 1] = (path, offset, _points(path, offset))
+                break
+            seen.setdefault(k, e.t)
+        return path
 
     def vertex_at(self, y0: np.ndarray) -> int | None:
         """The vertex (branch point of nullity 2) located from ``y0``, registered if new; None when there is none."""
@@ -542,7 +589,7 @@ class _Search:
         analysis = analyze(self.mech.with_coordinates(x), tol=self.tol)
         if analysis.dof != self.mech.mobility_value + 1 or "IM" not in analysis.types:
             return None
-        halves = half_branches(self.curve, bp.y, rank=self.tol.rank)
+        halves = half_branches(self.curve, bp.y, radius=self.radius, rank=self.tol.rank)
         if halves is None:
             self.notes.append(f"the branch point at {self.label} = {_fmt(self.in_value(x), self.kind, self.unit)} "
                               "has a nullity other than 2: its branches are not enumerated")
@@ -565,6 +612,16 @@ class _Search:
             values += [self.in_value(e.coordinates) for e in p.singular_events()
                        if e.analysis is not None and "DKP-input" in e.analysis.types]
         return _cluster([_wrap(v, self.kind) for v in values], self.tol.same_configuration)
+
+
+def _half_branch_radius(mech: Mechanism) -> float:
+    """Distance (length scales) of the half-branch points from their vertex: :data:`HALF_BRANCH_RADIUS`,
+    or a tenth of the shortest bar when that is smaller (the local picture must hold on the circle)."""
+    x = dict(mech.nodes)
+    bars = [float(np.linalg.norm(np.subtract(x[a], x[b]))) for _, ns in mech.links
+            for i, a in enumerate(ns) for b in ns[i + 1:]]
+    shortest = min((b for b in bars if b > 0.0), default=mech.length_scale)
+    return min(HALF_BRANCH_RADIUS, 0.1 * shortest / mech.length_scale)
 
 
 # ---------------------------------------------------------------------- the entry point
@@ -662,9 +719,10 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
             skipped[name] = (paths, system.degree, time.perf_counter() - t0)
             msg = (f"{mech.name}: the square {name} system (closure + det = 0, degree {system.degree}) needs "
                    f"{paths} homotopy paths, more than max_paths = {max_paths} (raise it with --max-paths): not "
-                   f"solved, so the traced {name}/IM configurations are NOT cross-checked, and the seeds are "
-                   "placed between the traced critical values instead (module docstring, 'Without the square "
-                   "system')")
+                   f"solved, so the traced {name}/IM configurations are NOT cross-checked"
+                   + ("" if name != "DKP-input" or samples is not None else
+                      ", and the seeds are placed in rounds between the traced critical values instead (module "
+                      "docstring, 'Without the square system')"))
             notes.append(msg)
             warnings.warn(msg, SingularitiesWarning, stacklevel=2)
             continue
@@ -781,7 +839,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         outs = None if out_value is None else np.unwrap([out_value(p.coordinates) for p in path.points]) \
             if output.kind == "angle" else np.array([out_value(p.coordinates) for p in path.points])
         span = float(np.max(ins) - np.min(ins)) if ins.size else 0.0
-        closed = path.stop_reason in ("closed", "unreachable")
+        closed = path.stop_reason in ("closed", "unreachable", RETURNED)
         branches.append(Branch(index, _as_dict(mech, path.points[0].coordinates), ins, outs, closed,
                                kind == "angle" and span >= 2 * math.pi - 1e-9, path.stop_reason, path))
     circuit_objs = [Circuit(k, tuple(b for b in branches if component[b.index] == k))
