@@ -45,29 +45,68 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--only", choices=("solve_all", "singularities"), default=None)
+    ap.add_argument("--butterfly", action="store_true",
+                    help="also run singularities on the double butterfly (minutes: its rounds of seeds)")
     args = ap.parse_args()
     if args.only != "singularities":
         bench_solve_all(args.repeat)
     if args.only != "solve_all":
-        bench_singularities(args.repeat)
+        bench_singularities(args.repeat, args.butterfly)
 
 
-def bench_singularities(repeat: int) -> None:
-    from symkin.solutions.circuits import singularities
+def bench_singularities(repeat: int, butterfly: bool = False) -> None:
+    """``singularities`` on the four-bar and the Watt six-bar, against stop 12's seeding in the same run.
 
-    print(f"\n{'singularities':45s} {'best s':>7s} {'worst s':>8s} {'hom s':>6s} {'paths':>6s} {'circ':>5s} "
-          f"{'sing':>5s} {'agree':>6s}")
+    The baseline seeds solve_all midway between every pair of consecutive critical input values
+    (``samples=`` those midpoints), as stop 12 did (it also traces from the critical points, which
+    stop 12 did not: its extra cost is a few covered-point checks); the default seeds one input
+    value and the square systems' critical points.  Same answer (circuits, singular
+    configurations) asserted.
+    """
+    import math
+
+    from symkin.solutions.circuits import _samples, singularities
+
+    print(f"\n{'singularities':32s} {'best s':>7s} {'base s':>7s} {'ratio':>6s} {'solve_all':>9s} {'hom s':>6s} "
+          f"{'paths':>6s} {'circ':>5s} {'sing':>5s} {'agree':>6s}")
     for name in ("fourbar_appendix", "watt_sixbar"):
         m = catalogue.get(name)
-        times, r = [], None
+        times, base, r = [], [], None
         for _ in range(repeat):
             t = time.perf_counter()
             r = singularities(m)
             times.append(time.perf_counter() - t)
+        critical = sorted({round(math.remainder(s.input, 2 * math.pi), 12) for s in r.singularities
+                           if "DKP-input" in s.types or "IM" in s.types})
+        mids = _samples(critical, "angle")
+        for _ in range(repeat):
+            t = time.perf_counter()
+            rb = singularities(m, samples=mids)
+            base.append(time.perf_counter() - t)
+        assert len(rb.circuits) == len(r.circuits) and [s.types for s in rb.singularities] == \
+            [s.types for s in r.singularities]
         hom = sum(c.seconds for c in r.checks)
         paths = sum(c.paths for c in r.checks)
-        print(f"{name:45s} {min(times):7.2f} {max(times):8.2f} {hom:6.2f} {paths:6d} {len(r.circuits):5d} "
+        print(f"{name:32s} {min(times):7.2f} {min(base):7.2f} {min(base) / min(times):6.2f} "
+              f"{len(r.samples):4d}/{len(mids):<4d} {hom:6.2f} {paths:6d} {len(r.circuits):5d} "
               f"{len(r.singularities):5d} {str(r.agree):>6s}")
+    if butterfly:
+        import warnings
+
+        from symkin.model.model_file import read_model
+
+        m = read_model(Path(__file__).resolve().parents[1] / "papers_examples" / "double_butterfly.toml")
+        for label, options in (("double butterfly, default rounds", {}),
+                               ("double butterfly, --samples 60° grid", {"samples": [0, 60, 120, 180, 240, 300]})):
+            t = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                r = singularities(m, unit="deg", **options)
+            dt = time.perf_counter() - t
+            kinds = [s.types for s in r.singularities]
+            print(f"{label:32s} {dt:7.1f} s, {len(r.samples)} solve_all, {len(r.circuits)} circuits, "
+                  f"{sum('DKP-input' in k for k in kinds)} DKP-input, {sum('IM' in k for k in kinds)} IM, "
+                  f"agree {r.agree} ({r.checks[0].skipped})")
 
 
 def bench_solve_all(repeat: int) -> None:

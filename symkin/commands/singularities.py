@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import json
+import sys
+import warnings
 
 from symkin.commands import Output
 from symkin.commands.analyze import tolerance
@@ -22,9 +24,41 @@ def add_arguments(p) -> None:
     p.add_argument("--plot", metavar="FILE.png", default=None,
                    help="write the circuits in input-output space with every singular configuration numbered")
     p.add_argument("--max-paths", type=int, default=None,
-                   help="refuse a square DKP system whose homotopy tracks more paths than this (default 600)")
+                   help="do not solve a square DKP system whose homotopy would track more paths than this "
+                        "(default 600): its configurations are then not cross-checked, and the seeds are placed "
+                        "in rounds between the traced critical values")
+    p.add_argument("--samples", type=_values, default=None, metavar="V,V,...",
+                   help="input values (in --unit, from the model's configuration) at which all assembly modes "
+                        "seed the traces, instead of the default ones (faster than the rounds; a circuit whose "
+                        "input range holds none of them and no solution of a square system is missed)")
+    p.add_argument("--no-progress", action="store_true", help="no progress line on the terminal")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the events and their classification (default 1e-8)")
+
+
+def _progress(enabled: bool):
+    """A tqdm counter of homotopies and traces on stderr when it is a terminal (never mixed into stdout)."""
+    if not enabled or not sys.stderr.isatty():
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(desc="singularities", unit=" step", file=sys.stderr, leave=False)
+
+
+def _values(text: str) -> list[float]:
+    """argparse type for ``--samples``: comma-separated numbers."""
+    import argparse
+    import math
+
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a comma-separated list of numbers: {text!r}") from None
+    if not values or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"need at least one finite number, got {text!r}")
+    return values
 
 
 def _text(result) -> str:
@@ -45,6 +79,10 @@ def _text(result) -> str:
             lines.append(f"   {n} = ({', '.join(f'{c:.10g}' for c in s.configuration[n])})")
     lines.append("")
     for ch in result.checks:
+        if ch.skipped:
+            lines.append(f"cross-check {ch.kind}: NOT solved ({ch.skipped}); {ch.traced} traced {ch.kind}/IM "
+                         "configuration(s), not cross-checked")
+            continue
         lines.append(f"cross-check {ch.kind}: {ch.homotopy} real solution(s) of closure + det = 0 "
                      f"({ch.paths} paths), {ch.traced} traced {ch.kind}/IM configuration(s): "
                      + ("agree" if ch.agree else "DISAGREE"))
@@ -53,7 +91,7 @@ def _text(result) -> str:
 
 
 def run(args) -> Output:
-    from symkin.solutions.circuits import singularities
+    from symkin.solutions.circuits import SingularitiesWarning, singularities
 
     mech = read_model(args.model)
     if args.plot:
@@ -62,7 +100,19 @@ def run(args) -> Output:
         require_matplotlib("--plot")
     try:
         options = {} if args.max_paths is None else {"max_paths": args.max_paths}
-        result = singularities(mech, tol=args.tol, unit=args.unit, **options)
+        if args.samples is not None:
+            options["samples"] = args.samples
+        bar = _progress(not args.no_progress)
+        if bar is not None:
+            options["progress"] = lambda what: (bar.set_description_str(what, refresh=False), bar.update())
+        try:
+            with warnings.catch_warnings():
+                # the result carries every warning (the text's "warning:" lines, the JSON's "warnings")
+                warnings.simplefilter("ignore", SingularitiesWarning)
+                result = singularities(mech, tol=args.tol, unit=args.unit, **options)
+        finally:
+            if bar is not None:
+                bar.close()
     except SymkinError as exc:
         raise _in_file(exc, args.model)
     message = ""

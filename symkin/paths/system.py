@@ -91,6 +91,11 @@ class MechanismCurve:
     def y0(self) -> np.ndarray:
         return self.y_of(self.x0.ravel()[self.free])
 
+    @property
+    def casadi_function(self) -> ca.Function:
+        """``y ↦ (H, J)``, the CasADi Function behind :meth:`residual_and_jacobian` (callable on SX)."""
+        return self._hj
+
     # ------------------------------------------------------------------ CurveProblem
     def residual_and_jacobian(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         h, j = self._hj(y)

@@ -47,6 +47,8 @@ class DkpSystem:
     paths); :meth:`systems` the square systems ``curve + [factor]``.  ``degree`` is the total
     degree of ``D``.  ``squared`` tells that the closure had redundant equations, squared up
     by random combinations before ``D`` was formed (its extra roots are filtered by the caller).
+    ``constant`` are the factors that take one value on the curve (e.g. a crank's block,
+    ``2 |V1 − P2|²``: never zero there), which :meth:`systems` leaves out.
     """
 
     closure: PolynomialSystem
@@ -56,6 +58,7 @@ class DkpSystem:
     unknowns: tuple
     degree: int
     squared: bool
+    constant: tuple = ()
 
     @property
     def equations(self) -> tuple:
@@ -63,8 +66,8 @@ class DkpSystem:
         return self.curve + (sp.expand(sp.prod(self.factors)),)
 
     def systems(self) -> list[tuple]:
-        """One square system ``curve + (factor,)`` per factor."""
-        return [self.curve + (f,) for f in self.factors]
+        """One square system ``curve + (factor,)`` per factor that is not a constant on the curve."""
+        return [self.curve + (f,) for f in self.factors if not any(f is k for k in self.constant)]
 
 
 def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> list:
@@ -183,11 +186,68 @@ def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | No
                               "configuration space (a structurally singular velocity equation)")
         if det.free_symbols:
             factors.append(det)
+    # a block that is a constant on the curve (a crank's own 2|V1 − P2|², a rocker's) never vanishes there:
+    # its square system has no real solution, only paths to track
+    constant = tuple(f_ for f_ in factors if _constant_on_curve(f_, eqs, v, closure))
+    if factors and len(constant) == len(factors):
+        raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is constant on the configuration "
+                          "space (the parameter is never singular): no square system")
     if not factors:
         raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is constant on the configuration "
                           "space (the parameter is never singular): no square system")
     degree = sum(int(sp.Poly(f, *v).total_degree()) for f in factors)
-    return DkpSystem(closure, c, tuple(eqs), tuple(factors), tuple(v), degree, squared)
+    return DkpSystem(closure, c, tuple(eqs), tuple(factors), tuple(v), degree, squared, constant)
+
+
+def _constant_on_curve(factor, eqs: list, v: list, closure: PolynomialSystem, points: int = 4) -> bool:
+    """Whether ``factor`` takes one value at the model's configuration and at ``points`` other curve points.
+
+    The other points are Gauss–Newton projections onto ``eqs = 0`` of random perturbations
+    (0.2 length scales, fixed seed) of the model's configuration; a factor that varies on the
+    curve differs there.  Points where the projection fails are not used; fewer than two
+    usable points: not constant (the factor is kept).
+    """
+    mech = closure.mechanism
+    x = np.concatenate([np.asarray(dict(mech.nodes)[n], float) for n in mech.free_nodes])
+    u0 = (x - np.tile(closure.center, len(mech.free_nodes))) / closure.scale
+    index = {s_: k for k, s_ in enumerate(closure.unknowns)}
+    v0 = np.array([u0[index[s_]] for s_ in v])
+    if not eqs:
+        return False
+    poly = sp.Poly(factor, *v)
+    exps = np.array(poly.monoms(), float)
+    coeffs = np.array([float(c_) for c_ in poly.coeffs()])
+
+    def f(y):  # the factor's terms at once (a degree-6 factor has thousands: lambdify is slow to build)
+        return float(coeffs @ np.prod(np.power(y[None, :], exps), axis=1))
+
+    r = sp.lambdify([v], list(eqs), "numpy")
+    jac = sp.lambdify([v], sp.Matrix(eqs).jacobian(v), "numpy")
+
+    def project(y):
+        for _ in range(40):
+            res = np.array(r(y), float).ravel()
+            if float(np.max(np.abs(res))) <= 1e-13:
+                return y
+            y = y + np.linalg.lstsq(np.array(jac(y), float).reshape(len(eqs), len(v)), -res, rcond=None)[0]
+        return None
+
+    base = project(v0.copy())
+    if base is None:
+        return False
+    f0 = float(f(base))
+    rng = np.random.default_rng(0)
+    used = 0
+    for _ in range(3 * points):
+        y = project(base + 0.2 * rng.standard_normal(len(v)))
+        if y is None or float(np.linalg.norm(y - base)) < 1e-3:
+            continue
+        if abs(float(f(y)) - f0) > 1e-9 * max(1.0, abs(f0)):
+            return False
+        used += 1
+        if used == points:
+            break
+    return used >= 2
 
 
 def block_triangular(rows: list[list]) -> list[tuple[list[int], list[int]]]:

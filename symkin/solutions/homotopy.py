@@ -66,6 +66,9 @@ def _to_bertini(bertini, poly: sp.Poly, variables):
     return expr
 
 
+#: solves of one system before a Bertini failure is reported
+RETRIES = 3
+
 ENDGAMES = {"cauchy": "ZeroDimCauchyDoublePrecisionTotalDegree",
             "power_series": "ZeroDimPowerSeriesDoublePrecisionTotalDegree"}
 
@@ -90,8 +93,18 @@ def track(equations, unknowns, endgame: str = "cauchy") -> np.ndarray:
     for e in equations:
         system.add_function(_to_bertini(bertini, sp.Poly(e, *unknowns), names))
     system.add_variable_group(bertini.VariableGroup(names))
-    alg = getattr(bertini.nag_algorithm, ENDGAMES[endgame])(system)
-    alg.solve()
+    for attempt in range(1, RETRIES + 1):
+        alg = getattr(bertini.nag_algorithm, ENDGAMES[endgame])(system)
+        try:
+            alg.solve()
+            break
+        except RuntimeError as exc:
+            # Bertini 2 (double precision) now and then aborts the whole solve on one failed path
+            # ("number of input variables (0) doesn't match ..."); its start system is random, so a
+            # new solve is a new homotopy
+            if attempt == RETRIES:
+                raise SymkinError(f"the homotopy solver failed {RETRIES} times on a system of {len(unknowns)} "
+                                  f"equations: {exc}") from None
     # a path that failed can come back as a vector of another length: it has no endpoint
     ends = [[complex(c) for c in v] for v in alg.solutions()]
     return np.array([v for v in ends if len(v) == len(unknowns) + 1], dtype=complex).reshape(

@@ -66,3 +66,21 @@ def test_determinant_vanishes_at_the_traced_dkp_output_configurations():
         u = (q - np.tile(s.closure.center, len(m.free_nodes))) / scale
         v = u[index]
         assert abs(float(d(v))) <= 1e-10
+
+
+def test_a_block_constant_on_the_curve_is_not_solved():
+    """The crank's own block of a four-bar, 2 |B − A|² / ℓ² in B's coordinates, is never zero on the curve: left out."""
+    from symkin.solutions.homotopy import total_degree
+
+    m = catalogue.get("fourbar_appendix")
+    s = dkp_system(m, input_coordinates(m)[0])
+    assert len(s.factors) == 2 and len(s.constant) == 1
+    (k,) = s.constant
+    assert {str(x) for x in k.free_symbols} == {"u_x_B", "u_y_B"}
+    b = np.array(m.coordinates()["B"]) - np.array(m.coordinates()["A"])
+    center, scale = s.closure.center, s.closure.scale
+    at = {sp.Symbol("u_x_B"): (m.coordinates()["B"][0] - center[0]) / scale,
+          sp.Symbol("u_y_B"): (m.coordinates()["B"][1] - center[1]) / scale}
+    assert abs(abs(float(k.subs(at))) - 2 * float(b @ b) / scale**2) <= 1e-12
+    (system,) = s.systems()
+    assert total_degree(list(system), list(s.unknowns)) == 16

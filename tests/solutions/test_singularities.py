@@ -19,6 +19,7 @@ import pytest
 from symkin import Mechanism, SymkinError
 from symkin.cli import main
 from symkin.model import catalogue
+from symkin.model.model_file import write_model
 from tests.conftest import EXAMPLES
 
 pytest.importorskip("bertini", reason="the homotopy solver is the optional extra symkin[global] "
@@ -344,14 +345,50 @@ def test_a_disagreement_is_a_field_and_a_warning(monkeypatch):
 
 
 @pytest.mark.slow
-def test_double_butterfly_beyond_max_paths_is_a_clear_error(capsys):
-    """The double butterfly's DKP-input determinant has a factor of degree 6 (768 paths): refused, not a wait."""
-    from symkin.model.model_file import read_model
-    from symkin.solutions.circuits import MAX_PATHS
+@pytest.mark.parametrize("name", ["double_rocker", "triple_rocker"])
+def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, tmp_path):
+    """max_paths = 0: no square system is solved; seeds in rounds between the traced critical values.
 
-    with pytest.raises(SymkinError, match=r"768 paths.*max_paths = 600"):
-        singularities(read_model(EXAMPLES / "double_butterfly.toml"))
-    assert MAX_PATHS == 600
-    assert main(["singularities", str(EXAMPLES / "double_butterfly.toml")]) == 2
+    The double rocker's second circuit (its mirror image) lies in a crank range that holds
+    no seed at the model's input: only the second round reaches it.  The answer is the law
+    of cosines' all the same; the cross-checks say they were skipped, ``agree`` is None.
+    """
+    from symkin.solutions.circuits import SingularitiesWarning
+
+    (g, a, b, c), circuits = GRASHOF[name]
+    m = fourbar(g, a, b, c, name=name)
+    with pytest.warns(SingularitiesWarning, match="NOT cross-checked"):
+        r = singularities(m, max_paths=0)
+    assert len(r.circuits) == circuits and all(c_.closed for c_ in r.circuits)
+    expected = [(k, np.concatenate([B, C])) for k, B, C in collinear_configurations(g, a, b, c)]
+    got = [np.concatenate([s.configuration[n] for n in m.free_nodes]) for s in r.singularities]
+    assert len(got) == len(expected)
+    for kind, q in expected:
+        k = int(np.argmin([float(np.max(np.abs(g_ - q))) for g_ in got]))
+        assert float(np.max(np.abs(got[k] - q))) <= TOL * m.length_scale and kind in r.singularities[k].types
+    assert r.agree is None and all(ch.agree is None and ch.skipped == f"{ch.paths} paths > max_paths = 0"
+                                   for ch in r.checks)
+    assert len(r.samples) >= (2 if name == "double_rocker" else 1)
+    assert main(["singularities", "--max-paths", "0", "--json", str(write_model(m, tmp_path / "m.json"))]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["agree"] is None and out["circuits"] == circuits
+    assert all(ch["skipped"] for ch in out["cross_check"])
+
+
+@pytest.mark.slow
+def test_samples_replace_the_default_seeds(capsys, tmp_path):
+    """--samples: solve_all only there (with the square systems: and the critical points); bad values exit 2."""
+    m = catalogue.get("fourbar_appendix")
+    seen: list[str] = []
+    r = singularities(m, unit="deg", samples=[10.0, 200.0], progress=seen.append)
+    assert [round(v, 9) for v in r.to_dict()["samples"]] == [10.0, -160.0]
+    assert seen[:2] == ["square DKP-input system", "square DKP-output system"]
+    assert "solve_all at rotation:crank = 10°" in seen and "solve_all at rotation:crank = -160°" in seen
+    assert sum(w.startswith("trace ") for w in seen) == sum(len(c.branches) for c in r.circuits)
+    assert len(r.circuits) == 2 and r.agree is True
+    path = str(write_model(m, tmp_path / "m.json"))
+    with pytest.raises(SystemExit) as exit_:
+        main(["singularities", path, "--samples", "10,x"])
+    assert exit_.value.code == 2
     err = capsys.readouterr().err
-    assert "double_butterfly.toml" in err and "--max-paths" in err and "Traceback" not in err
+    assert "--samples" in err and "not a comma-separated list of numbers" in err and "Traceback" not in err

@@ -351,3 +351,36 @@ def test_spatial_moving_line_slider_redundant_cross_product_component():
     result = solve_all(m, {"velocity:C.x": 0.2})
     assert_same_configurations(result, expected, ["C", "D"])
     assert result.complex == 0 and result.rejected == 0
+
+
+def test_a_failed_bertini_solve_is_retried_then_reported(monkeypatch):
+    """Bertini 2 now and then aborts a whole solve on one path: a new (random) homotopy is tried, up to RETRIES."""
+    import bertini
+
+    from symkin.solutions import homotopy
+
+    real = bertini.nag_algorithm.ZeroDimPowerSeriesDoublePrecisionTotalDegree
+    calls = {"n": 0}
+
+    class Flaky:
+        def __init__(self, system):
+            self.alg = real(system)
+
+        def solve(self):
+            calls["n"] += 1
+            if calls["n"] <= calls.get("fail", 1):
+                raise RuntimeError("trying to evaluate system, but number of input variables (0) doesn't match")
+            self.alg.solve()
+
+        def solutions(self):
+            return self.alg.solutions()
+
+    monkeypatch.setattr(bertini.nag_algorithm, "ZeroDimPowerSeriesDoublePrecisionTotalDegree", Flaky)
+    import sympy as sp
+
+    x, y = sp.symbols("x y")
+    ends = homotopy.track([x**2 - 1, y - 2], [x, y], endgame="power_series")
+    assert calls["n"] == 2 and sorted(round((v[1] / v[0]).real, 9) for v in ends) == [-1.0, 1.0]
+    calls.update(n=0, fail=homotopy.RETRIES)
+    with pytest.raises(SymkinError, match="failed 3 times"):
+        homotopy.track([x**2 - 1, y - 2], [x, y], endgame="power_series")
