@@ -83,8 +83,10 @@ def _text(result) -> str:
             lines.append(f"cross-check {ch.kind}: NOT solved ({ch.skipped}); {ch.traced} traced {ch.kind}/IM "
                          "configuration(s), not cross-checked")
             continue
+        how = (f"exact, msolve, instead of a homotopy of {ch.paths} paths" if ch.solver == "msolve"
+               else f"{ch.paths} paths")
         lines.append(f"cross-check {ch.kind}: {ch.homotopy} real solution(s) of closure + det = 0 "
-                     f"({ch.paths} paths), {ch.traced} traced {ch.kind}/IM configuration(s): "
+                     f"({how}), {ch.traced} traced {ch.kind}/IM configuration(s): "
                      + ("agree" if ch.agree else "DISAGREE"))
     lines += [f"warning: {w}" for w in result.warnings]
     return "\n".join(lines)

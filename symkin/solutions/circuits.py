@@ -43,9 +43,16 @@ on the paths it simulates; this module makes the search global:
    ``same_configuration``.  Both counts are reported; a disagreement is a field
    (``agree = False``, the unmatched configurations) and a warning, never silent.
 
-**Without the square system.**  A square system whose homotopy would track more than
-``max_paths`` paths (its total degree, summed over the factors of the determinant) is not
-solved: its :class:`CrossCheck` is ``skipped`` (``agree`` None, also for the whole result
+**Beyond the homotopy.**  A square system whose homotopy would track more than ``max_paths``
+paths (its total degree, summed over the factors of the determinant) is solved exactly instead
+when msolve is installed (the extra ``symkin[exact]``, :mod:`symkin.solutions.exact`: the system
+rebuilt in rational arithmetic, a Gröbner basis, certified real roots; ``solver = "msolve"``).
+The double butterfly of ``papers_examples/`` is this case: 768 homotopy paths for a factor of
+degree 6 (Bertini had not finished after 100 minutes here), 2 s for msolve, whose 18 real
+solutions are exactly the traced 16 crank turning points and the two tangent contacts.
+
+**Without the square system.**  Otherwise (no msolve, or a mechanism the exact system does not
+cover: sliders, spatial, redundant constraints) the system is not solved: its :class:`CrossCheck` is ``skipped`` (``agree`` None, also for the whole result
 unless another check disagrees) and a :class:`SingularitiesWarning` says that those
 configurations are not cross-checked.  Without the DKP-input system the seeds are placed in
 rounds: solve_all at the model's input, trace, then at the middle of every interval between
@@ -55,12 +62,9 @@ sample yet, and of every gap between samples and critical values wider than
 until none is left.  Every circuit whose input range holds a traced critical value, or is
 wider than the gap, then lies on a traced branch; a narrower circuit between two samples can
 be missed: only the square system rules that out.  ``samples=`` replaces these seeds by the
-caller's input values.  The double butterfly of ``papers_examples/`` is this case: its
-DKP-input determinant has a factor of degree 6 with 2,295 terms in 8 unknowns (768
-total-degree paths, with 256 more for the crank's block), which Bertini had not finished
-after tens of minutes here; its answer (two circuits, 16 crank turning points, the two
-tangent contacts T1, T2 located to rounding) is checked against an independent root search
-in ``tests/solutions/test_double_butterfly.py``.
+caller's input values.  Without msolve the double butterfly takes this way (25 solve_all
+calls) to the same answer, which ``tests/solutions/test_double_butterfly.py`` also checks
+against an independent root search.
 
 Not covered: a circuit on which the input is locked (constant), whose points are all
 critical (not isolated solutions of step 1) and which no seed at another input value meets;
@@ -214,7 +218,10 @@ class CrossCheck:
     ``homotopy`` counts its distinct real solutions, ``traced`` the traced configurations whose
     kinds it detects (``kind`` or IM); ``unmatched_homotopy`` / ``unmatched_traced`` the
     configurations found by one side only.  ``paths`` is the number of homotopy paths (tracked,
-    or that would have been tracked when ``skipped`` says why the system was not solved).
+    or that would have been tracked when the system was solved exactly or not at all).
+    ``solver`` is ``"bertini"`` (the homotopy) or ``"msolve"`` (beyond ``max_paths``: the exact
+    system of :mod:`symkin.solutions.exact`, Gröbner basis and certified real roots);
+    ``skipped`` says why neither solved it.
     """
 
     kind: str
@@ -228,6 +235,7 @@ class CrossCheck:
     unmatched_traced: tuple = ()
     seconds: float = 0.0
     skipped: str = ""
+    solver: str = "bertini"
 
     @property
     def agree(self) -> bool | None:
@@ -239,7 +247,7 @@ class CrossCheck:
     def to_dict(self) -> dict:
         return {"kind": self.kind, "label": self.label, "homotopy": self.homotopy, "traced": self.traced,
                 "matched": self.matched, "agree": self.agree, "paths": self.paths, "degree": self.degree,
-                "skipped": self.skipped,
+                "skipped": self.skipped, "solver": self.solver,
                 "unmatched_homotopy": [{n: list(x) for n, x in c.items()} for c in self.unmatched_homotopy],
                 "unmatched_traced": [{n: list(x) for n, x in c.items()} for c in self.unmatched_traced],
                 "seconds": self.seconds}
@@ -486,7 +494,10 @@ class _Search:
 
     def critical_point(self, conf: dict) -> None:
         """A real solution of a square DKP system: its vertex (nullity 2) or its two half-branches, traced."""
-        y = self.curve.y_of(_free(self.mech, conf))
+        q = _free(self.mech, conf)
+        y = self.curve.y_of(q)
+        if self.located(q):
+            return  # a traced branch passes through it (and on both sides of it: a regular point)
         if self.vertex_at(y) is None:
             x = self.curve.x_of(y)
             sv = np.linalg.svd(self.curve.jacobian(y), compute_uv=False)
@@ -501,6 +512,16 @@ class _Search:
                 self.stations.append({"y": y, "input": self.in_value(x), "halves": halves, "resolved": {},
                                       "paths": set(), "what": "critical point"})
         self.resolve()
+
+    def located(self, q: np.ndarray) -> bool:
+        """Whether a traced branch has located an event at the configuration ``q`` (a critical point).
+
+        At a turning point of the input a path does not cross the point's input value, it
+        touches it: the crossing test of :meth:`covering` cannot see it, the located event can.
+        """
+        radius = self.tol.same_configuration * self.scale
+        return any(float(np.linalg.norm(_free(self.mech, e.coordinates) - q)) <= radius
+                   for p, _, _ in self.paths for e in p.singular_events())
 
     def resolve(self) -> None:
         """Trace, outwards, every half-branch of every station that no traced branch passes through yet."""
@@ -708,7 +729,8 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     closure = closure_system(mech, tolerances)
     systems = [("DKP-input", drive)] + ([("DKP-output", output)] if output is not None else [])
     roots: dict[str, tuple[list[dict], int, int, float]] = {}
-    skipped: dict[str, tuple[int, int, float]] = {}
+    skipped: dict[str, tuple[int, int, float, str]] = {}
+    solvers: dict[str, str] = {}
     for name, c in systems:
         t0 = time.perf_counter()
         if progress is not None:
@@ -716,10 +738,17 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         system = dkp_system(mech, c, tolerances, closure=closure, seed=seed)
         paths = sum(total_degree(list(e), list(system.unknowns)) for e in system.systems())
         if paths > max_paths:
-            skipped[name] = (paths, system.degree, time.perf_counter() - t0)
+            by_msolve = _exact_roots(mech, c)
+            if isinstance(by_msolve, list):
+                roots[name] = (by_msolve, paths, system.degree, time.perf_counter() - t0)
+                solvers[name] = "msolve"
+                continue
+            why = f"{paths} paths > max_paths = {max_paths}; exact: {by_msolve}"
+            skipped[name] = (paths, system.degree, time.perf_counter() - t0, why)
             msg = (f"{mech.name}: the square {name} system (closure + det = 0, degree {system.degree}) needs "
-                   f"{paths} homotopy paths, more than max_paths = {max_paths} (raise it with --max-paths): not "
-                   f"solved, so the traced {name}/IM configurations are NOT cross-checked"
+                   f"{paths} homotopy paths, more than max_paths = {max_paths} (raise it with --max-paths), and "
+                   f"its exact solution is not available ({by_msolve}): not solved, so the traced {name}/IM "
+                   "configurations are NOT cross-checked"
                    + ("" if name != "DKP-input" or samples is not None else
                       ", and the seeds are placed in rounds between the traced critical values instead (module "
                       "docstring, 'Without the square system')"))
@@ -820,12 +849,12 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     for name, c in systems:
         traced = [s for s in result_sing if name in s.kinds or "IM" in s.kinds]
         if name in skipped:
-            paths, degree, seconds = skipped[name]
-            checks.append(CrossCheck(name, c.label, 0, len(traced), 0, paths, degree, (), (), seconds,
-                                     skipped=f"{paths} paths > max_paths = {max_paths}"))
+            paths, degree, seconds, why = skipped[name]
+            checks.append(CrossCheck(name, c.label, 0, len(traced), 0, paths, degree, (), (), seconds, skipped=why))
             continue
         found, tracked, degree, seconds = roots[name]
-        checks.append(_compare(mech, name, c.label, found, traced, tracked, degree, seconds, scale, tolerances))
+        checks.append(replace(_compare(mech, name, c.label, found, traced, tracked, degree, seconds, scale, tolerances),
+                              solver=solvers.get(name, "bertini")))
     for ch in checks:
         if ch.agree is False:
             msg = (f"{mech.name}: the square {ch.kind} system has {ch.homotopy} real solution(s), the traced "
@@ -980,6 +1009,24 @@ def _is_singular(mech: Mechanism, conf: dict, name: str, tol: Tolerances) -> boo
 
     types = analyze(mech.with_coordinates(conf), tol=tol).types
     return name in types or "IM" in types
+
+
+def _exact_roots(mech: Mechanism, c: InputCoordinate) -> list[dict] | str:
+    """Real solutions (configurations) of the exact square DKP systems by msolve, or why there are none."""
+    from symkin.solutions.exact import exact_dkp_system, msolve_executable, real_solutions
+
+    if msolve_executable() is None:
+        from symkin.solutions.exact import EXTRA
+
+        return f"msolve is not installed ({EXTRA})"
+    try:
+        system = exact_dkp_system(mech, c)
+        found = []
+        for equations in system.systems():
+            found += [system.place(v) for v, _ in real_solutions(list(equations), system.unknowns)]
+    except SymkinError as exc:
+        return str(exc)
+    return found
 
 
 def _compare(mech, name, label, found, traced, paths, degree, seconds, scale, tol: Tolerances) -> CrossCheck:

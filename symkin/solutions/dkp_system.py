@@ -114,14 +114,14 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
     return [sp.expand(form.coeff(w)) for n in mech.free_nodes for w in dots[n]]
 
 
-def _determinant(rows: list[list], gens: list):
+def _determinant(rows: list[list], gens: list, domain=RR):
     """``det`` of a square matrix of polynomials by Laplace expansion over column subsets (memoised).
 
     The rows of ``∂R/∂v`` are sparse (a bar involves at most two nodes): the expansion is
     ``2ⁿ`` sub-determinants at most, in sympy's sparse polynomial ring over floats.
     """
     n = len(rows)
-    r, *_ = ring([str(g) for g in gens], RR)
+    r, *_ = ring([str(g) for g in gens], domain)
     polys = [[r(0) if e == 0 else r.from_expr(sp.sympify(e).xreplace({g: sp.Symbol(str(g)) for g in gens}))
               for e in row] for row in rows]
     memo: dict[int, object] = {}
@@ -200,18 +200,22 @@ def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | No
 
 
 def _constant_on_curve(factor, eqs: list, v: list, closure: PolynomialSystem, points: int = 4) -> bool:
-    """Whether ``factor`` takes one value at the model's configuration and at ``points`` other curve points.
-
-    The other points are Gauss–Newton projections onto ``eqs = 0`` of random perturbations
-    (0.2 length scales, fixed seed) of the model's configuration; a factor that varies on the
-    curve differs there.  Points where the projection fails are not used; fewer than two
-    usable points: not constant (the factor is kept).
-    """
+    """Whether ``factor`` takes one value at the model's configuration and at ``points`` other curve points."""
     mech = closure.mechanism
     x = np.concatenate([np.asarray(dict(mech.nodes)[n], float) for n in mech.free_nodes])
     u0 = (x - np.tile(closure.center, len(mech.free_nodes))) / closure.scale
     index = {s_: k for k, s_ in enumerate(closure.unknowns)}
-    v0 = np.array([u0[index[s_]] for s_ in v])
+    return constant_on_curve(factor, eqs, v, np.array([u0[index[s_]] for s_ in v]), 1.0, points)
+
+
+def constant_on_curve(factor, eqs: list, v: list, v0: np.ndarray, scale: float = 1.0, points: int = 4) -> bool:
+    """Whether the polynomial ``factor`` is one number on the curve ``eqs = 0`` near ``v0`` (a curve point).
+
+    It is evaluated at ``v0`` and at ``points`` other curve points: Gauss–Newton projections onto
+    ``eqs = 0`` of random perturbations (0.2 ``scale``, fixed seed) of ``v0``; a factor that varies
+    on the curve differs there (relative 1e-9).  Points where the projection fails are not used;
+    fewer than two usable points: not constant (the factor is kept).
+    """
     if not eqs:
         return False
     poly = sp.Poly(factor, *v)
@@ -223,26 +227,27 @@ def _constant_on_curve(factor, eqs: list, v: list, closure: PolynomialSystem, po
 
     r = sp.lambdify([v], list(eqs), "numpy")
     jac = sp.lambdify([v], sp.Matrix(eqs).jacobian(v), "numpy")
+    closes = 1e-13 * max(1.0, scale * scale)
 
     def project(y):
         for _ in range(40):
             res = np.array(r(y), float).ravel()
-            if float(np.max(np.abs(res))) <= 1e-13:
+            if float(np.max(np.abs(res))) <= closes:
                 return y
             y = y + np.linalg.lstsq(np.array(jac(y), float).reshape(len(eqs), len(v)), -res, rcond=None)[0]
         return None
 
-    base = project(v0.copy())
+    base = project(np.asarray(v0, float).copy())
     if base is None:
         return False
-    f0 = float(f(base))
+    f0 = f(base)
     rng = np.random.default_rng(0)
     used = 0
     for _ in range(3 * points):
-        y = project(base + 0.2 * rng.standard_normal(len(v)))
-        if y is None or float(np.linalg.norm(y - base)) < 1e-3:
+        y = project(base + 0.2 * scale * rng.standard_normal(len(v)))
+        if y is None or float(np.linalg.norm(y - base)) < 1e-3 * scale:
             continue
-        if abs(float(f(y)) - f0) > 1e-9 * max(1.0, abs(f0)):
+        if abs(f(y) - f0) > 1e-9 * max(1.0, abs(f0)):
             return False
         used += 1
         if used == points:

@@ -346,8 +346,8 @@ def test_a_disagreement_is_a_field_and_a_warning(monkeypatch):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["double_rocker", "triple_rocker"])
-def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, tmp_path):
-    """max_paths = 0: no square system is solved; seeds in rounds between the traced critical values.
+def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, tmp_path, monkeypatch):
+    """max_paths = 0 and no msolve: no square system is solved; seeds in rounds between the traced critical values.
 
     The double rocker's second circuit (its mirror image) lies in a crank range that holds
     no seed at the model's input: only the second round reaches it.  The answer is the law
@@ -355,6 +355,9 @@ def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, 
     """
     from symkin.solutions.circuits import SingularitiesWarning
 
+    import symkin.solutions.exact as exact
+
+    monkeypatch.setattr(exact, "msolve_executable", lambda: None)
     (g, a, b, c), circuits = GRASHOF[name]
     m = fourbar(g, a, b, c, name=name)
     with pytest.warns(SingularitiesWarning, match="NOT cross-checked"):
@@ -366,8 +369,8 @@ def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, 
     for kind, q in expected:
         k = int(np.argmin([float(np.max(np.abs(g_ - q))) for g_ in got]))
         assert float(np.max(np.abs(got[k] - q))) <= TOL * m.length_scale and kind in r.singularities[k].types
-    assert r.agree is None and all(ch.agree is None and ch.skipped == f"{ch.paths} paths > max_paths = 0"
-                                   for ch in r.checks)
+    assert r.agree is None and all(ch.agree is None and ch.skipped.startswith(f"{ch.paths} paths > max_paths = 0")
+                                   and "msolve is not installed" in ch.skipped for ch in r.checks)
     assert len(r.samples) >= (2 if name == "double_rocker" else 1)
     assert main(["singularities", "--max-paths", "0", "--json", str(write_model(m, tmp_path / "m.json"))]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -392,3 +395,21 @@ def test_samples_replace_the_default_seeds(capsys, tmp_path):
     assert exit_.value.code == 2
     err = capsys.readouterr().err
     assert "--samples" in err and "not a comma-separated list of numbers" in err and "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_beyond_max_paths_msolve_solves_the_square_systems_exactly():
+    """max_paths = 0 with msolve: the exact systems give the Watt six-bar's DKP configurations, and they agree."""
+    from symkin.solutions.exact import msolve_executable
+
+    if msolve_executable() is None:
+        pytest.skip("msolve is the optional extra symkin[exact] (pip install -e '.[exact]')")
+    m = catalogue.get("watt_sixbar")
+    r = singularities(m, max_paths=0)
+    expected = watt_expected()
+    assert_singular_set(r, expected, m, crank_input(m))
+    assert [ch.solver for ch in r.checks] == ["msolve", "msolve"] and r.agree is True
+    by_kind = {ch.kind: ch for ch in r.checks}
+    for kind in ("DKP-input", "DKP-output"):
+        ch = by_kind[kind]
+        assert ch.homotopy == ch.matched == ch.traced == sum(k == kind for k, _ in expected) and not ch.skipped
