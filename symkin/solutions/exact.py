@@ -28,7 +28,6 @@ system has a curve of complex solutions is reported as such (:class:`SymkinError
 from __future__ import annotations
 
 import importlib.util
-import math
 import re
 import shutil
 import subprocess
