@@ -67,11 +67,6 @@ class BranchPoint:
     iterations: int
 
 
-def _function(curve):
-    """``y ↦ (H, J)`` as a CasADi Function (the curve's own, or one built from its numeric calls)."""
-    return curve.casadi_function
-
-
 def _gauss_newton(fun, z: np.ndarray, tol: float, max_iterations: int) -> tuple[np.ndarray, bool, int]:
     """Gauss–Newton (least squares steps) on ``fun: z ↦ (G, DG)`` until the step is below ``tol·max(1, |z|)``."""
     for k in range(1, max_iterations + 1):
@@ -98,7 +93,7 @@ def locate_branch_point(curve, y0: np.ndarray, tol: float = 1e-14, max_iteration
     see ``tests/paths/test_vertex.py``; the double butterfly's tangent contacts need the
     deflation.
     """
-    f = _function(curve)
+    f = curve.casadi_function
     y0 = np.asarray(y0, float)
     n = y0.size
     h0, j0 = (np.array(v, float) for v in f(y0))
@@ -138,7 +133,7 @@ def half_branches(curve, x: np.ndarray, radius: float = HALF_BRANCH_RADIUS, samp
     Returns None when the nullity of ``J`` at ``x`` (relative ``rank``) is not 2: the
     reduction to one scalar equation on a circle needs exactly one extra left null vector.
     """
-    f = _function(curve)
+    f = curve.casadi_function
     x = np.asarray(x, float)
     n = x.size
     jx = np.array(f(x)[1], float)

@@ -500,8 +500,7 @@ class _Search:
             return  # a traced branch passes through it (and on both sides of it: a regular point)
         if self.vertex_at(y) is None:
             x = self.curve.x_of(y)
-            sv = np.linalg.svd(self.curve.jacobian(y), compute_uv=False)
-            if sv.size >= y.size - 1 and sv[y.size - 2] <= math.sqrt(self.tol.rank) * max(sv[0], 1.0):
+            if self.singular(y):
                 self.notes.append(f"the critical point at {self.label} = {_fmt(self.in_value(x), self.kind, self.unit)}"
                                   " is a singular point of the curve that could not be located as a branch point "
                                   "of nullity 2: no trace starts from it")
@@ -592,12 +591,14 @@ class _Search:
             seen.setdefault(k, e.t)
         return path
 
+    def singular(self, y: np.ndarray) -> bool:
+        """Whether the curve's Jacobian has lost a rank at ``y`` (or is near it: relative ``√rank``)."""
+        sv = np.linalg.svd(self.curve.jacobian(y), compute_uv=False)
+        return sv.size >= y.size - 1 and sv[y.size - 2] <= math.sqrt(self.tol.rank) * max(sv[0], 1.0)
+
     def vertex_at(self, y0: np.ndarray) -> int | None:
         """The vertex (branch point of nullity 2) located from ``y0``, registered if new; None when there is none."""
-        y_check = np.array(self.curve.jacobian(y0))
-        sv = np.linalg.svd(y_check, compute_uv=False)
-        n = y0.size
-        if sv.size < n - 1 or sv[n - 2] > math.sqrt(self.tol.rank) * max(sv[0], 1.0):
+        if not self.singular(y0):
             return None  # a regular point of the curve (a DKP configuration)
         bp = locate_branch_point(self.curve, y0)
         if not bp.converged or bp.residual > 1e-12:
