@@ -4,15 +4,10 @@ Only reads results; never computes.  JSON is ``Analysis.to_dict()``.
 """
 from __future__ import annotations
 
+from symkin.kinds import Kind, describe
+
 __all__ = ["render_text", "render_markdown"]
 
-_TYPE_WORDS = {
-    "IM": "increased mobility (IM)",
-    "DKP-input": "dependent kinematic parameters in the input (DKP-input)",
-    "DKP-output": "dependent kinematic parameters in the output (DKP-output)",
-    "LIM": "link impossible motion (LIM)",
-    "constraint": "a constraint singularity",
-}
 
 
 def _vec(v) -> str:
@@ -53,7 +48,7 @@ def _mechanism_sentences(a) -> list[str]:
     out = []
     f, L = a.mobility, a.dof
     if a.types:
-        out.append("The configuration is singular: " + ", ".join(_TYPE_WORDS[t] for t in a.types) + ".")
+        out.append("The configuration is singular: " + ", ".join(describe(t) for t in a.types) + ".")
     else:
         out.append("The configuration is not singular.")
     if L > f:
@@ -66,11 +61,11 @@ def _mechanism_sentences(a) -> list[str]:
     if a.im_indicator is not None:
         out.append(f"IM indicator (eigenvalue λ_{f + 1} of the reduced geometric matrix): {a.im_indicator:.6g}.")
     if a.input_rank is not None:
-        out.append(_rank_sentence("inputs", a.input_labels, a.input_rank, f, "DKP-input" in a.types))
+        out.append(_rank_sentence("inputs", a.input_labels, a.input_rank, f, Kind.DKP_INPUT in a.types))
         for r in a.input_relations:
             out.append(f"  input relation (r = {r.r}): {r}")
     if a.output_rank is not None:
-        out.append(_rank_sentence("outputs", a.output_labels, a.output_rank, f, "DKP-output" in a.types))
+        out.append(_rank_sentence("outputs", a.output_labels, a.output_rank, f, Kind.DKP_OUTPUT in a.types))
         for r in a.output_relations:
             out.append(f"  output relation (r = {r.r}): {r}")
     if a.locked_links:
@@ -105,7 +100,7 @@ def _sentences(a) -> list[str]:
     out = _structure_sentences(a) if a.structure else _mechanism_sentences(a)
     if a.platform is not None:
         msg = f"The platform (link {a.platform}) has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
-        msg += "; this exceeds the generic DOF: constraint singularity." if "constraint" in a.types else "."
+        msg += "; this exceeds the generic DOF: constraint singularity." if Kind.CONSTRAINT in a.types else "."
         out.append(msg)
         for r in a.platform_relations:
             out.append(f"  platform relation (r = {r.r}): {r}")

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from symkin.analysis import indicators as ind
+from symkin.kinds import Kind
 from symkin.model.mechanism import Mechanism
 from symkin.numeric import evaluators as _numeric
 from symkin.numeric.evaluators import INDICATOR_NAMES
@@ -91,11 +92,11 @@ class BatchResult:
         """The IM / DKP types of configuration ``k``, in :func:`symkin.analyze`'s order."""
         out = []
         if self.im[k]:
-            out.append("IM")
+            out.append(Kind.IM)
         if self.is_dkp_input[k]:
-            out.append("DKP-input")
+            out.append(Kind.DKP_INPUT)
         if self.is_dkp_output[k]:
-            out.append("DKP-output")
+            out.append(Kind.DKP_OUTPUT)
         return tuple(out)
 
     @property

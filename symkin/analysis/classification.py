@@ -36,11 +36,11 @@ from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
 from symkin.model.mechanism import Mechanism, Parameter, ParameterList
 from symkin.numeric.linalg import rref, singular_values, svd_factors, svd_rank
+from symkin.kinds import TYPES, Kind
 from symkin.tolerances import Tolerances
 
 __all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
 
-TYPES = ("IM", "DKP-input", "DKP-output", "LIM", "constraint")
 
 
 @dataclass(frozen=True)
@@ -276,7 +276,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     L = ms.dof
     types = []
     if indicators.is_im(L, f):
-        types.append("IM")
+        types.append(Kind.IM)
 
     # inputs and outputs restricted in one go (rows are independent), then split
     io = mech.io_parameters
@@ -288,13 +288,13 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     rk_in, rk_out = _ranked(m_in, t), _ranked(m_out, t)
     r_in, r_out, null_in, null_out = rk_in.rank, rk_out.rank, rk_in.null, rk_out.null
     if indicators.is_dkp(rk_in.s, k_in, f, tolerances, rank=rk_in.rank):
-        types.append("DKP-input")
+        types.append(Kind.DKP_INPUT)
     if indicators.is_dkp(rk_out.s, k_out, f, tolerances, rank=rk_out.rank):
-        types.append("DKP-output")
+        types.append(Kind.DKP_OUTPUT)
 
     locked_nodes, locked_links = _locked(mech, ms, t)
     if locked_links and f >= 1 and L > 0:  # LIM needs mobility to lose (issue 7 §1)
-        types.append("LIM")
+        types.append(Kind.LIM)
 
     platform_dof = generic = None
     pf_rel: tuple[Relation, ...] = ()
@@ -310,7 +310,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         pf_rel = _relations(rk_pf, n_pf, lab_pf, t)
         generic = mech.platform_dof if mech.platform_dof is not None else min(f, m_pf.shape[0])
         if platform_dof > generic:
-            types.append("constraint")
+            types.append(Kind.CONSTRAINT)
 
     # uncontrolled motions: inputs locked (eq. 11, 14), canonical basis
     motions: tuple[Motion, ...] = ()
@@ -324,11 +324,11 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
             for c in range(basis.shape[1]))
 
     zl = []
-    if "IM" in types:
+    if Kind.IM in types:
         zl.append("IIM")
-    if "DKP-input" in types:
+    if Kind.DKP_INPUT in types:
         zl.append("II")
-    if "DKP-output" in types:
+    if Kind.DKP_OUTPUT in types:
         zl.append("IO")
     ro = ri = False
     if k_in and k_out:
@@ -339,8 +339,8 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         rpm = L - max(r_in, r_out) > rpm_bound and \
             L - _rank(np.vstack([m_in, m_out]), t) > rpm_bound
         zl += [name for name, on in (("RI", ri), ("RO", ro), ("RPM", rpm)) if on]
-    type2 = "DKP-input" in types or ro
-    type1 = "DKP-output" in types or ri
+    type2 = Kind.DKP_INPUT in types or ro
+    type1 = Kind.DKP_OUTPUT in types or ri
     ga = "type 3" if (type1 and type2) else "type 2" if type2 else "type 1" if type1 else None
 
     dkp_in, dkp_out = _dkp_values(mech, ms, tolerances, ms.unit_rows(io), (rk_in.s, rk_out.s), m_io)

@@ -9,7 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["COMMANDS", "Output"]
+from symkin.errors import ModelError, SymkinError
+
+__all__ = ["COMMANDS", "Output", "in_file"]
 
 COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen"]
 
@@ -21,3 +23,18 @@ class Output:
     text: str = ""
     code: int = 0
     message: str = ""
+
+
+def in_file(exc: SymkinError, model: str) -> SymkinError:
+    """``exc`` itself, told which model file it concerns (the CLI prints ``file: message``).
+
+    The error keeps its class and its data (``ModelError.problems``,
+    ``NotConvergedError.data``): a :class:`ModelError` without a source gets ``model`` as
+    its source; any other error gets ``model: `` in front of its message.
+    """
+    if isinstance(exc, ModelError):
+        if exc.source is None:
+            exc.source = model
+    elif not str(exc).startswith(f"{model}: "):
+        exc.args = (f"{model}: {exc}",) + tuple(exc.args[1:])
+    return exc

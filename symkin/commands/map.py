@@ -8,7 +8,7 @@ from pathlib import Path
 
 from symkin.commands import Output
 from symkin.commands.analyze import tolerance
-from symkin.commands.path import _in_file
+from symkin.commands import in_file
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -109,7 +109,7 @@ def run(args) -> Output:
                               modes=args.modes, refine=not args.no_refine, unit=args.unit, tol=args.tol,
                               progress=bar.update if bar is not None else None, client=client)
     except SymkinError as exc:
-        raise _in_file(exc, args.model)
+        raise in_file(exc, args.model)
     finally:
         if bar is not None:
             bar.close()

@@ -5,7 +5,7 @@ import json
 
 from symkin.commands import Output
 from symkin.commands.analyze import tolerance
-from symkin.commands.path import _in_file
+from symkin.commands import in_file
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -74,7 +74,7 @@ def run(args) -> Output:
         result = solve_all(mech, values, unit=args.unit, tol=args.tol, analyze=args.analyze,
                            max_paths=args.max_paths)
     except SymkinError as exc:
-        raise _in_file(exc, args.model)
+        raise in_file(exc, args.model)
     if args.json:
         return Output(json.dumps(result.to_dict(), indent=1))
     return Output(_text(result))

@@ -7,7 +7,7 @@ import json
 import math
 import sys
 
-from symkin.commands import Output
+from symkin.commands import Output, in_file
 from symkin.commands.analyze import tolerance
 from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
@@ -102,19 +102,6 @@ def _csv(path, unit: str) -> str:
     return buf.getvalue()
 
 
-def _in_file(exc: SymkinError, model: str) -> SymkinError:
-    """``exc`` itself, told which model file it concerns (the CLI prints ``file: message``).
-
-    The error keeps its class and its data (``ModelError.problems``,
-    ``NotConvergedError.data``): a :class:`ModelError` without a source gets ``model`` as
-    its source; any other error gets ``model: `` in front of its message.
-    """
-    if isinstance(exc, ModelError):
-        if exc.source is None:
-            exc.source = model
-    elif not str(exc).startswith(f"{model}: "):
-        exc.args = (f"{model}: {exc}",) + tuple(exc.args[1:])
-    return exc
 
 
 def run(args) -> Output:
@@ -134,7 +121,7 @@ def run(args) -> Output:
         path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
                      max_arclength=args.max_arclength, progress=update, steps=args.steps, tol=args.tol)
     except SymkinError as exc:
-        raise _in_file(exc, args.model)
+        raise in_file(exc, args.model)
     finally:
         if bar is not None:
             bar.close()

@@ -7,7 +7,7 @@ import warnings
 
 from symkin.commands import Output
 from symkin.commands.analyze import tolerance
-from symkin.commands.path import _in_file
+from symkin.commands import in_file
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -116,7 +116,7 @@ def run(args) -> Output:
             if bar is not None:
                 bar.close()
     except SymkinError as exc:
-        raise _in_file(exc, args.model)
+        raise in_file(exc, args.model)
     message = ""
     if args.plot:
         from symkin.plots.circuits import save_circuits_figure

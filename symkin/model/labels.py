@@ -5,7 +5,7 @@ The pure part of what ``symkin path --input``, ``symkin map --x/--hold`` and
 (one of its inputs or outputs, or a rotation of a moving link, a slide of a slider, a
 coordinate of a free node), and a scalar *coordinate* whose rate is that parameter.  Plain
 data, no numerics: the stages to the right give the coordinate its value (CasADi in
-:mod:`symkin.paths.coordinates`, polynomials in :mod:`symkin.symbolic.loci`).
+:mod:`symkin.numeric.coordinates`, polynomials in :mod:`symkin.symbolic.loci`).
 """
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ def coordinate_labels(mech: Mechanism, params=None) -> tuple[CoordinateLabel, ..
     return tuple(out)
 
 
-def _driving(mech: Mechanism, params) -> list[CoordinateLabel]:
+def driving_labels(mech: Mechanism, params) -> list[CoordinateLabel]:
     """The scalar coordinates of ``params`` that can drive a path (twists and the like are skipped)."""
     out = []
     for p in params:
@@ -79,7 +79,7 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     (('rotation:crank',), ('rotation:rocker',), ('crank', 'coupler', 'rocker'))
     """
     inputs = tuple(c.label for c in coordinate_labels(mech))
-    outputs = tuple(c.label for c in _driving(mech, mech.outputs) if c.label not in inputs)
+    outputs = tuple(c.label for c in driving_labels(mech, mech.outputs) if c.label not in inputs)
     return {"inputs": inputs, "outputs": outputs,
             "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
             "slide": tuple(s.id for s in mech.sliders),
@@ -100,7 +100,7 @@ def parse_label(mech: Mechanism, label: str, what: str = "input",
     >>> c.kind, c.parameter.target, c.axis
     ('length', ('P',), 1)
     """
-    for c in coordinate_labels(mech) + tuple(_driving(mech, mech.outputs)):
+    for c in coordinate_labels(mech) + tuple(driving_labels(mech, mech.outputs)):
         if c.label == label:
             return c
     kind, _, rest = label.partition(":")

@@ -40,7 +40,7 @@ import casadi as ca
 import numpy as np
 
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.geometric_matrix import _frame, coordinate_labels, free_mask
+from symkin.numeric.geometric_matrix import affine_frame, coordinate_labels, free_mask
 from symkin.numeric.linalg import affine_hull
 from symkin.tolerances import DEFAULT
 
@@ -277,7 +277,7 @@ class _Builder:
         h, _, normals0 = affine_hull(pts0, self.tol)
         if h == dim or len(idx) <= h + 1:
             return [], []
-        frame = _frame(pts0, h)
+        frame = affine_frame(pts0, h)
         self.structural.append(f"link {name}: nodes span a {h}-dimensional hull (frame "
                                f"{', '.join(ns[k] for k in frame)}) — fixed at the model's configuration")
         base = self.node(idx[frame[0]])

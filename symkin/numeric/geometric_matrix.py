@@ -229,7 +229,7 @@ def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: 
     h, _, normals = affine_hull(pts, tol)
     if h == dim or len(idx) <= h + 1:
         return []
-    frame = _frame(pts, h)
+    frame = affine_frame(pts, h)
     base = pts[frame[0]]
     edges = np.array([pts[k] - base for k in frame[1:]]).T  # (dim, h)
     rows = []
@@ -247,7 +247,7 @@ def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: 
     return rows
 
 
-def _frame(pts: np.ndarray, h: int) -> list[int]:
+def affine_frame(pts: np.ndarray, h: int) -> list[int]:
     """Indices of h+1 affinely independent points, chosen greedily for conditioning.
 
     Near-ties (within a relative 1e-9) go to the lowest index, so that a symmetric body gets

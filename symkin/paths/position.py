@@ -15,7 +15,7 @@ import math
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.paths.continuation import newton
-from symkin.paths.coordinates import LinearInput, input_coordinates, parse_input_label
+from symkin.numeric.coordinates import LinearInput, input_coordinates, parse_input_label
 from symkin.paths.system import MechanismCurve
 
 __all__ = ["solve_position"]

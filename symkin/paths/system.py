@@ -21,7 +21,7 @@ import numpy as np
 from symkin.analysis.batch import Evaluators, evaluators_for
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.paths.coordinates import LinearInput, input_coordinates, parse_input_label, segment_inputs
+from symkin.numeric.coordinates import LinearInput, input_coordinates, parse_input_label, segment_inputs
 
 __all__ = ["MechanismCurve"]
 

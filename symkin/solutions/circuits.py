@@ -84,7 +84,7 @@ from symkin.analysis.classification import Analysis, analyze
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.paths.continuation import CurvePoint, point_at, tangent
-from symkin.paths.coordinates import InputCoordinate, input_coordinates
+from symkin.numeric.coordinates import InputCoordinate, input_coordinates
 from symkin.paths.events import TestFunction, locate_sign_change
 from symkin.paths.system import make_curve
 from symkin.paths.trace import Path, trace

@@ -29,7 +29,7 @@ from sympy.polys.rings import ring
 
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.paths.coordinates import InputCoordinate, _axis_angle_setup, _pair
+from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair
 from symkin.solutions.system import PolynomialSystem, _Builder, closure_system, recover_jacobian
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -87,7 +87,7 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
         return dots[n] if n in dots else sp.zeros(mech.dim, 1)
 
     def turn(link):
-        i, j = _pair(mech, link)
+        i, j = measuring_pair(mech, link)
         d, dd = b.node(names[j]) - b.node(names[i]), vel(names[j]) - vel(names[i])
         m = b.model(names[j]) - b.model(names[i])
         return d[0] * dd[1] - d[1] * dd[0], float(m @ m)
@@ -99,7 +99,7 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
         (w1, k1), (w2, k2) = turn(p.target[0]), turn(p.target[1])
         form = k1 * w2 - k2 * w1
     elif p.kind == "rotation":
-        axis, origin, k = _axis_angle_setup(mech, p)
+        axis, origin, k = axis_angle_setup(mech, p)
         r = b.node(names[k]) - sp.Matrix((origin - b.center) / b.scale)
         form = sp.Matrix([float(a) for a in axis]).dot(r.cross(vel(names[k])))
     elif p.kind == "velocity":
@@ -150,7 +150,7 @@ def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | No
     Examples
     --------
     >>> from symkin.model.catalogue import get
-    >>> from symkin.paths.coordinates import input_coordinates
+    >>> from symkin.numeric.coordinates import input_coordinates
     >>> m = get("fourbar_appendix")
     >>> s = dkp_system(m, input_coordinates(m)[0])
     >>> len(s.equations), len(s.unknowns), s.degree

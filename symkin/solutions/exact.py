@@ -41,7 +41,7 @@ import sympy as sp
 
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.paths.coordinates import InputCoordinate, _pair
+from symkin.numeric.coordinates import InputCoordinate, measuring_pair
 
 __all__ = ["ExactDkpSystem", "exact_dkp_system", "msolve_executable", "real_solutions", "EXTRA"]
 
@@ -150,7 +150,7 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
                           "a curve of one degree of freedom (redundant constraints are not supported by the exact "
                           "system)")
     positions = {n: sp.Matrix([sp.expand(x_.xreplace(solution)) for x_ in pos[n]]) for n in mech.node_names}
-    i, j = _pair(mech, p.target[0])
+    i, j = measuring_pair(mech, p.target[0])
     names = mech.node_names
     d = positions[names[j]] - positions[names[i]]
     rate = [sp.expand(d[0] * sp.diff(d[1], u) - d[1] * sp.diff(d[0], u)) for u in left]

@@ -9,7 +9,7 @@ model's length scale ``L`` (so the decisions do not depend on the unit of length
   *original* equations (least-squares steps, so an overconstrained system is fine), started
   from ``Re u``, reaches a residual ``<= 1e-12`` (accepted up to ``1e-10``); it is then verified:
   the closure residual of the evaluators (:func:`symkin.evaluators`, relative to ``L``), the
-  prescribed values recomputed by :mod:`symkin.paths.coordinates`, and the half-line filters
+  prescribed values recomputed by :mod:`symkin.numeric.coordinates`, and the half-line filters
   of prescribed angles (a solution on the opposite half-line is counted in ``filtered``);
 * **near-real** when ``imaginary < max |Im u| <= near_real`` (default ``1e-4``): counted, not
   returned;
@@ -210,7 +210,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     ----------
     values : dict
         Exactly F labels (``rotation:crank``, ``slide:S``, ``velocity:P.x``, ``joint:L1-L2``; see
-        :func:`symkin.paths.coordinates.parse_input_label`) → values measured from the model's
+        :func:`symkin.numeric.coordinates.parse_input_label`) → values measured from the model's
         configuration (angles in ``unit``, lengths in model units), as for
         :func:`symkin.paths.position.solve_position`.
     tol : float or Tolerances

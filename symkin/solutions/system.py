@@ -15,7 +15,7 @@ Equations (``d`` a difference of node positions, all in ``u``):
   collinear bodies use one distance and ``x_m = x_0 + α e``;
 * a **slider** on a fixed line or plane: ``n · (x − p) = 0`` for the normals ``n`` (linear); on
   the moving line through nodes A, C: ``(x − x_A) × (x_C − x_A) = 0`` (bilinear);
-* a **prescribed value** (an input coordinate of :mod:`symkin.paths.coordinates`, measured
+* a **prescribed value** (an input coordinate of :mod:`symkin.numeric.coordinates`, measured
   from the model's configuration): a node coordinate (linear); a planar link angle θ —
   ``(x_j − x_i) · (−sin θ, cos θ) = 0`` (linear) with the half-line filter
   ``(x_j − x_i) · (cos θ, sin θ) > 0``; a planar joint angle (bilinear, with its half-line
@@ -44,7 +44,7 @@ import sympy as sp
 
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism
-from symkin.paths.coordinates import InputCoordinate, _axis_angle_setup, _pair, parse_input_label
+from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair, parse_input_label
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["PolynomialSystem", "closure_system", "position_system", "prescribed_coordinates", "recover_jacobian"]
@@ -135,7 +135,7 @@ def prescribed_coordinates(mech: Mechanism, values: dict, unit: str = "rad") -> 
 
 
 def _inputs(mech):
-    from symkin.paths.coordinates import input_coordinates
+    from symkin.numeric.coordinates import input_coordinates
 
     try:
         return input_coordinates(mech)
@@ -276,7 +276,7 @@ def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
         owner = f"value:{c.label}"
         p = c.parameter
         if p.kind == "rotation" and dim == 2:
-            i, j = _pair(mech, p.target[0])
+            i, j = measuring_pair(mech, p.target[0])
             d = b.node(names[j]) - b.node(names[i])
             d0 = b.model(names[j]) - b.model(names[i])
             phi = math.atan2(d0[1], d0[0]) + value
@@ -288,7 +288,7 @@ def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
             b.add(owner, -math.sin(phi) * d[0] + math.cos(phi) * d[1])
             b.filters.append((owner, math.cos(phi) * d[0] + math.sin(phi) * d[1]))
         elif p.kind == "joint":
-            (i1, j1), (i2, j2) = _pair(mech, p.target[0]), _pair(mech, p.target[1])
+            (i1, j1), (i2, j2) = measuring_pair(mech, p.target[0]), measuring_pair(mech, p.target[1])
             d1 = b.node(names[j1]) - b.node(names[i1])
             d2 = b.node(names[j2]) - b.node(names[i2])
             m1 = b.model(names[j1]) - b.model(names[i1])
@@ -303,7 +303,7 @@ def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
             b.add(owner, r[0] * d2[1] - r[1] * d2[0])
             b.filters.append((owner, _dot(r, d2)))
         elif p.kind == "rotation":
-            axis, origin, k = _axis_angle_setup(mech, p)
+            axis, origin, k = axis_angle_setup(mech, p)
             o = (origin - b.center) / b.scale
             r0 = b.model(names[k]) - o
             r0 = r0 - (r0 @ axis) * axis
@@ -381,7 +381,7 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     """The polynomial position problem of ``mech`` with the input coordinates ``values`` prescribed.
 
     See the module docstring for the equations.  ``values`` maps input labels
-    (:func:`symkin.paths.coordinates.parse_input_label`) to values measured from the model's
+    (:func:`symkin.numeric.coordinates.parse_input_label`) to values measured from the model's
     configuration (angles in ``unit``, lengths in model units); exactly F of them.
 
     Examples

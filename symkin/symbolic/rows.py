@@ -35,7 +35,7 @@ import sympy as sp
 
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.geometric_matrix import _frame  # same frame choice as the numeric core
+from symkin.numeric.geometric_matrix import affine_frame  # same frame choice as the numeric core
 from symkin.numeric.linalg import affine_hull
 from symkin.symbolic.symbols import (angle_symbol, coordinate_symbol, exact, exact_angle,
                                      length_symbol, offset_symbol, slide_symbol)
@@ -266,7 +266,7 @@ class RowBuilder:
         h, _, _ = affine_hull(pts, self.tol.geometry)
         if h == self.dim or len(ns) <= h + 1:
             return []
-        frame = [ns[k] for k in _frame(pts, h)]
+        frame = [ns[k] for k in affine_frame(pts, h)]
         owner = f"link {name} (rigidity out of its hull)"
         rows = []
         others = [n for n in ns if n not in frame]

@@ -13,7 +13,7 @@ paths use; rows ``basis_rows`` of the evaluators, chosen once), ``c`` the held c
 ``1`` for angles: every row is dimensionless, so a model in millimetres and in metres
 solves the same system.  ``nf`` unknowns, ``(nf − F) + (F − 2) + 2 = nf`` equations.
 
-Coordinates (labels as :func:`symkin.paths.coordinates.parse_input_label` takes them) are
+Coordinates (labels as :func:`symkin.numeric.coordinates.parse_input_label` takes them) are
 **absolute**, in internal units (model lengths, radians):
 
 * ``velocity:P.x`` — the node's coordinate;
@@ -78,7 +78,7 @@ from symkin.errors import SymkinError
 from symkin.model.labels import parse_hold  # noqa: F401  (moved to the model stage; re-exported)
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
-from symkin.paths.coordinates import InputCoordinate, accepted_input_labels, parse_input_label
+from symkin.numeric.coordinates import InputCoordinate, accepted_input_labels, parse_input_label
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["MapCoordinate", "MapSystem", "map_system", "parse_hold", "UNITS", "NEWTON_TOL", "NEWTON_ITER"]
@@ -217,7 +217,7 @@ def _orientation_component(mech: Mechanism, label: str) -> OrientationComponent 
 def map_coordinate(mech: Mechanism, label: str) -> MapCoordinate:
     """The absolute map coordinate named ``label``; a :class:`SymkinError` listing what is accepted.
 
-    Besides the labels of :func:`symkin.paths.coordinates.parse_input_label`, a spatial
+    Besides the labels of :func:`symkin.numeric.coordinates.parse_input_label`, a spatial
     link's orientation component ``rotation:<link>[x|y|z]`` (:class:`OrientationComponent`,
     relative to the model's orientation).
     """

@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 
 from symkin.model import catalogue
-from symkin.paths.coordinates import input_coordinates
+from symkin.numeric.coordinates import input_coordinates
 from symkin.paths.trace import trace
 from symkin.solutions.dkp_system import block_triangular, dkp_system, rate_row
 

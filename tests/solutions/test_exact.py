@@ -9,7 +9,7 @@ import sympy as sp
 
 from symkin import SymkinError
 from symkin.model import catalogue
-from symkin.paths.coordinates import input_coordinates
+from symkin.numeric.coordinates import input_coordinates
 from symkin.solutions import exact
 from symkin.solutions.exact import _parse, exact_dkp_system, msolve_executable, real_solutions
 

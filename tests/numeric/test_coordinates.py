@@ -7,7 +7,7 @@ import pytest
 from symkin import motion_space
 from symkin.model import catalogue
 from symkin.numeric.geometric_matrix import free_mask, parameter_rows
-from symkin.paths.coordinates import LinearInput, input_coordinates
+from symkin.numeric.coordinates import LinearInput, input_coordinates
 from symkin.paths.system import MechanismCurve
 
 
@@ -34,7 +34,7 @@ def test_values_are_measured_from_the_model():
 
 def test_every_accepted_label_parses_and_an_unknown_one_lists_them():
     from symkin.errors import SymkinError
-    from symkin.paths.coordinates import accepted_input_labels, parse_input_label
+    from symkin.numeric.coordinates import accepted_input_labels, parse_input_label
 
     mech = catalogue.get("slider_crank")
     accepted = accepted_input_labels(mech)

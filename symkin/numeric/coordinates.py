@@ -16,7 +16,7 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.model.labels import CoordinateLabel, accepted_labels, parse_label
-from symkin.model.labels import _driving as _driving_labels
+from symkin.model.labels import driving_labels
 from symkin.model.labels import coordinate_labels
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 
@@ -54,7 +54,7 @@ class InputCoordinate(CoordinateLabel):
         return None
 
 
-def _pair(mech: Mechanism, link: str) -> tuple[int, int]:
+def measuring_pair(mech: Mechanism, link: str) -> tuple[int, int]:
     """The link's first node and the node farthest from it (as for the rotation rows)."""
     idx = mech.node_index()
     ns = mech.link_nodes(link)
@@ -64,7 +64,7 @@ def _pair(mech: Mechanism, link: str) -> tuple[int, int]:
     return first, far
 
 
-def _axis_angle_setup(mech: Mechanism, p: Parameter):
+def axis_angle_setup(mech: Mechanism, p: Parameter):
     """Fixed axis unit vector, a point on it, and the body node used to measure the angle."""
     fixed = set(mech.fixed)
     xyz = mech.coordinates()
@@ -101,7 +101,7 @@ def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
         return x[dim * k: dim * k + dim]
 
     def planar_turn(link):
-        i, j = _pair(mech, link)
+        i, j = measuring_pair(mech, link)
         d, d0 = node(j) - node(i), x0[j] - x0[i]
         return ca.atan2(d0[0] * d[1] - d0[1] * d[0], d0[0] * d[0] + d0[1] * d[1])
 
@@ -111,7 +111,7 @@ def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
         turn = planar_turn(p.target[1]) - planar_turn(p.target[0])
         return ca.atan2(ca.sin(turn), ca.cos(turn))
     if p.kind == "rotation":
-        a, origin, k = _axis_angle_setup(mech, p)
+        a, origin, k = axis_angle_setup(mech, p)
         r, r0 = node(k) - origin, x0[k] - origin
         r = r - ca.dot(r, a) * a
         r0 = r0 - (r0 @ a) * a
@@ -143,7 +143,7 @@ def input_coordinates(mech: Mechanism, params=None) -> tuple[InputCoordinate, ..
 
 def _driving(mech: Mechanism, params) -> list[InputCoordinate]:
     """The scalar coordinates of ``params`` that can drive a path (twists and the like are skipped)."""
-    return [InputCoordinate.of(c) for c in _driving_labels(mech, params)]
+    return [InputCoordinate.of(c) for c in driving_labels(mech, params)]
 
 
 #: what :func:`parse_input_label` accepts, by kind: :func:`symkin.model.labels.accepted_labels` itself
