@@ -63,6 +63,21 @@ class Tolerances:
         ``near_branch`` is refined as a branch point (IM) instead (default ``1e-5``: two
         decades above the event threshold, where a DKP root next to a branch point is
         no longer separated from it at the continuation's step size).
+    newton : float
+        Residual (dimensionless: the closure in units of the length scale, or a system the
+        caller scaled so) at which the Gauss–Newton corrector of :mod:`symkin.curves`
+        has converged, together with a last step below its square root (default ``1e-12``:
+        about 1e4 roundings of an O(1) residual, so that a well-conditioned point reaches
+        it in one or two quadratic steps and a point next to a singularity, where Newton
+        converges only linearly, still does).
+    closure : float
+        Residual to which a *located* point (an event, a singular configuration) is
+        polished onto the closure before it is classified (default ``1e-13``: one decade
+        below ``newton``, at the rounding level of a length-scale-normalised closure).
+    locate : float
+        Relative step below which the singular-point locator of :mod:`symkin.curves`
+        (branch points, rank drops, deflated systems whose residual cannot reach ``newton``
+        in floating point) stops (default ``1e-14``: a few roundings of ``‖z‖``).
     kernel_margin : float
         Factor on singular values by which the generated indicator kernel must clear the
         rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
@@ -76,6 +91,9 @@ class Tolerances:
     event: float = 10.0
     near_branch: float = 1e-5
     kernel_margin: float = 100.0
+    newton: float = 1e-12
+    closure: float = 1e-13
+    locate: float = 1e-14
 
     @property
     def event_threshold(self) -> float:
