@@ -12,7 +12,12 @@ from symkin.workspace import quadtree
 from symkin.workspace.locus_problems import LOCUS_NEWTON_TOL, LocusProblems
 from symkin.workspace.refine_data import GridData, RefineStats
 
-__all__ = ["im_candidates", "locate_im", "im_through_quadtree"]
+__all__ = ["im_candidates", "locate_im", "locate_im_many", "IM_SCREEN_ITERATIONS"]
+
+#: Gauss–Newton steps of the batched screen of IM-indicator minima (:func:`locate_im_many`): from a start
+#: within a finest quadtree cell of an IM point the rank-drop system converges quadratically in a few
+#: steps, while a minimum with no rank drop near stays orders of magnitude above the event threshold
+IM_SCREEN_ITERATIONS = 12
 
 
 def im_candidates(grid: GridData) -> list[tuple[int, int]]:
@@ -64,28 +69,53 @@ def locate_im(pb: LocusProblems, y0: np.ndarray, tol: Tolerances = DEFAULT) -> n
     return y
 
 
-def im_through_quadtree(pb: LocusProblems, a_c: np.ndarray, y_c: np.ndarray, cell: np.ndarray, box_d: np.ndarray,
-                         tol: Tolerances, stats: "RefineStats") -> np.ndarray | None:
-    """An IM configuration near the grid's IM-indicator minimum at ``a_c`` (config ``y_c``), through the quadtree.
+def locate_im_many(pb: LocusProblems, centres: list, cell: np.ndarray, box_d: np.ndarray, tol: Tolerances,
+                   stats: RefineStats) -> list[np.ndarray | None]:
+    """IM configurations near the grid's IM-indicator minima ``centres`` (``[(a_c, y_c)]``), in one batch each step.
 
     The IM indicator (the relative ``σ_{F+1}``, §V) is positive, so it has no sign change to
-    bracket: the cells around the minimum are subdivided (:func:`symkin.workspace.quadtree.subdivide`
-    with the IM indicator as ``T``) down to the finest cell holding the smallest value, and
-    :func:`locate_im` starts from that cell's point (an IM point between grid points that the
-    coarse grid does not resolve, Fig. 14), then from the grid point itself.  The finest
-    points are tried nearest to zero first; the first located configuration is returned
-    (None when none is: the core decides afterwards whether it is IM).
+    bracket: the cells around every minimum are subdivided at once
+    (:func:`symkin.workspace.quadtree.subdivide_many` with the IM indicator as ``T``) down to
+    the finest cell holding the smallest value.  Each minimum's starts are its finest points,
+    nearest to zero first, then the grid point itself (an IM point between grid points that
+    the coarse grid does not resolve, Fig. 14).
+
+    **Screen**: every start of every minimum takes ``IM_SCREEN_ITERATIONS`` batched
+    Gauss–Newton steps towards a rank drop (:meth:`LocusProblems.polish_rank_drop_many`),
+    and a minimum is refined further only when the smallest IM indicator reached is at most
+    :attr:`Tolerances.event_threshold` (the core's threshold of a located zero of a path
+    test): a mechanism without IM points in the box (the 3-RPR at constant orientation)
+    costs one batch.  A minimum that passes is refined by :func:`locate_im` from its starts
+    in order; the first located configuration is returned for it (None when none is, or
+    when it was screened out: the core decides afterwards whether it is IM).
     """
-    def sample(a, y0):
-        y = pb.solve_square(a, y0)
-        return y, pb.tests(y)["im"]
+    if not centres:
+        return []
+    lo, hi = box_d[:, 0], box_d[:, 1]
 
-    sub = quadtree.subdivide(sample, a_c, y_c, pb.tests(y_c)["im"], cell, box_d[:, 0], box_d[:, 1])
-    stats.subdivided += sub.samples
-    starts = [y for _, y, _ in sorted(sub.dips, key=lambda d: pb.tests(d[1])["im"])] + [np.asarray(y_c, float)]
-    for y0 in starts:
-        y = locate_im(pb, y0, tol)
-        if y is not None:
-            return y
-    return None
+    def im(y):
+        return pb.tests_many(y)["im"]
 
+    y_c = np.array([y for _, y in centres], float)
+    subs = quadtree.subdivide_many(pb.solve_square_many, im, [(a, y, t) for (a, y), t in zip(centres, im(y_c))],
+                                   cell, lo, hi)
+    starts = []
+    for sub, y in zip(subs, y_c):
+        stats.subdivided += sub.samples
+        finest = np.array([d[1] for d in sub.dips], float).reshape(-1, y_c.shape[1])
+        order = np.argsort(im(finest), kind="stable") if len(finest) else np.zeros(0, int)
+        starts.append(np.vstack([finest[order], y[None]]))
+    flat = np.vstack(starts)
+    reached = np.fmin.reduce(np.vstack([im(pb.polish_rank_drop_many(flat, IM_SCREEN_ITERATIONS)), im(flat)]), axis=0)
+    reached = np.where(np.isfinite(reached), reached, np.inf)
+    out: list[np.ndarray | None] = []
+    first = 0
+    for ys in starts:
+        best = float(reached[first:first + len(ys)].min())
+        first += len(ys)
+        if not best <= tol.event_threshold:
+            stats.im_screened += 1
+            out.append(None)
+            continue
+        out.append(next((y for y in (locate_im(pb, y0, tol) for y0 in ys) if y is not None), None))
+    return out

@@ -93,7 +93,7 @@ from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 from symkin.workspace.cusps import locate_cusp
-from symkin.workspace.im_points import im_candidates, im_through_quadtree
+from symkin.workspace.im_points import im_candidates, locate_im_many
 from symkin.workspace.locate import locate_crossing, locate_double_zero, locate_fold
 from symkin.workspace.locus_problems import KINDS, OTHER_KIND, LocusProblems, LocusSystem
 from symkin.workspace.refine_data import Curve, GridData, RefineStats, SingularPoint
@@ -285,20 +285,22 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
                         lambda: locate_fold(pb, dim_axes(*pa), ya, dim_axes(*pb_), tol=tol)[:2],
                         NotConvergedError)
     steps = np.array([abs(float(grid.xs[1] - grid.xs[0])) / scale[0], abs(float(grid.ys[1] - grid.ys[0])) / scale[1]])
+    before = pb.counter.n
+    centres = []
     for j, i in im_candidates(grid):
-        before = pb.counter.n
         qa = grid.config(j, i)
         ya = qa / pb.scale if qa is not None else resolve_from_seed(pb, grid, scale, (j, i))
         if ya is None:
             stats.failed += 1
             continue
-        y = im_through_quadtree(pb, dim_axes(j, i), ya, steps, box_d, tol, stats)
-        stats.locate_evaluations += pb.counter.n - before
+        centres.append((dim_axes(j, i), ya))
+    for y in locate_im_many(pb, centres, steps, box_d, tol, stats):  # one batch per level, screened
         if y is None:
             stats.failed += 1
             continue
         stats.im_candidates += 1
         add_point(points, pb, sys_, y, mode, scale, tol, only_im=True)
+    stats.locate_evaluations += pb.counter.n - before
     interior = OTHER_KIND[boundary[0]]
     while seeds:
         y = seeds.pop(0)
@@ -308,27 +310,23 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         stats.seeded += 1
         take(interior, y)
 
-    def refine_dip(kind, j, i):
-        """Subdivide the cells around a dip of ``T`` (:mod:`symkin.workspace.quadtree`); locate and trace."""
-        a_c = dim_axes(j, i)
-        if any(k == kind and polyline_distance(a_c, ax, c) <= cell for k, _, c, ax in traced):
+    def near_traced_dip(kind, a_c):
+        return any(k == kind and polyline_distance(a_c, ax, c) <= cell for k, _, c, ax in traced)
+
+    def dip_configuration(j, i):
+        q = grid.config(j, i)
+        return q / pb.scale if q is not None else resolve_from_seed(pb, grid, scale, (j, i))
+
+    def refine_dip(kind, j, i, y_c, sub):
+        """Locate and trace what the subdivision ``sub`` around a dip of ``T`` found (:mod:`symkin.workspace.quadtree`)."""
+        if near_traced_dip(kind, dim_axes(j, i)):  # a curve traced from an earlier dip passes here
             stats.duplicates += 1
             return
-        q = grid.config(j, i)
-        y_c = q / pb.scale if q is not None else resolve_from_seed(pb, grid, scale, (j, i))
         if y_c is None:
             stats.failed += 1
             return
         stats.dips += 1
-        before = pb.counter.n
-
-        def sample(a, y0):
-            y = pb.solve_square(a, y0)
-            return y, pb.tests(y)[kind]
-
-        sub = quadtree.subdivide(sample, a_c, y_c, pb.tests(y_c)[kind], steps, box_d[:, 0], box_d[:, 1])
         stats.subdivided += sub.samples
-        stats.locate_evaluations += pb.counter.n - before
         for aa, ya, ab, yb in sub.crossings:
             locate_and_take((kind,), None, None,
                             lambda: (kind, locate_crossing(pb, kind, aa, ya, ab, yb)[0]),
@@ -359,6 +357,21 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         values = getattr(grid, name)
         if values is None:
             continue
-        for j, i in zip(*np.nonzero(quadtree.dip_mask(values, grid.assembled))):
-            refine_dip(kind, int(j), int(i))
+        # every dip of this kind not next to a curve traced so far is subdivided in one batch per level; then
+        # each is located and traced in grid order (one next to a curve traced from an earlier dip is skipped)
+        found_dips = [(int(j), int(i)) for j, i in zip(*np.nonzero(quadtree.dip_mask(values, grid.assembled)))]
+        todo = {d: dip_configuration(*d) for d in found_dips if not near_traced_dip(kind, dim_axes(*d))}
+        ready = [(d, y) for d, y in todo.items() if y is not None]
+        before = pb.counter.n
+        if ready:
+            y0 = np.array([y for _, y in ready])
+            subs = quadtree.subdivide_many(pb.solve_square_many, lambda y, k=kind: pb.tests_many(y)[k],
+                                           [(dim_axes(*d), y, t) for (d, y), t in zip(ready, pb.tests_many(y0)[kind])],
+                                           steps, box_d[:, 0], box_d[:, 1])
+        else:
+            subs = []
+        stats.locate_evaluations += pb.counter.n - before
+        subdivision = {d: sub for (d, _), sub in zip(ready, subs)}
+        for d in found_dips:
+            refine_dip(kind, *d, todo.get(d), subdivision.get(d))
     return curves, points, stats

@@ -10,9 +10,9 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
-from scipy.linalg import null_space
 
 from symkin.analysis.batch import Evaluators
+from symkin.curves.corrector import gauss_newton_batch
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.kinds import Kind
 from symkin.numeric.evaluators import INDICATOR_NAMES
@@ -20,7 +20,7 @@ from symkin.numeric.sx_linalg import givens_qr
 from symkin.paths.continuation import newton
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["KINDS", "OTHER_KIND", "LOCUS_NEWTON_TOL", "POLISH_STEP", "LocusSystem", "LocusProblems",
+__all__ = ["KINDS", "OTHER_KIND", "LOCUS_NEWTON_TOL", "POLISH_STEP", "SQUARE_ITERATIONS", "LocusSystem", "LocusProblems",
            "CountedFunction", "CurveFunction", "EvaluationCounter"]
 
 #: curve kinds and the indicator output that defines each
@@ -31,6 +31,10 @@ OTHER_KIND = {Kind.DKP_INPUT: Kind.DKP_OUTPUT, Kind.DKP_OUTPUT: Kind.DKP_INPUT}
 LOCUS_NEWTON_TOL = 1e-12
 #: relative step at which a located point counts as polished (the issue's 1e-10)
 POLISH_STEP = 1e-10
+#: Newton iterations of the square problem at one axis point (one point or a batch)
+SQUARE_ITERATIONS = 25
+#: largest number of points per mapped CasADi call of a batch
+_BLOCK = 1024
 #: relative displacement at which a 0/0 derivative of the indicator kernel is re-evaluated
 _JACOBIAN_BUMP = 1e-12
 
@@ -104,6 +108,39 @@ class _NumericCall:
         self._sizes_in = [self._dense.numel_in(k) for k in range(self._dense.n_in())]
         self._sizes_out = [self._dense.size_out(k) for k in range(self._dense.n_out())]
         self._buf, self._trig = self._dense.buffer()
+        self._maps: dict = {}
+
+    def many(self, *args) -> list[np.ndarray]:
+        """The Function at N points: each argument (N, size) or one vector shared by all.
+
+        Outputs (N, rows) for columns, (N, rows, cols) else.  ``Function.map`` over blocks of
+        a power-of-two size (at most :data:`_BLOCK`, the last one padded with its first
+        point) through the buffer interface: one CasADi call per block, no loop per point.
+        """
+        n = max((np.shape(a)[0] for a in args if np.ndim(a) == 2), default=1)
+        ins = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float).reshape(-1, size), (n, size)))
+               for a, size in zip(args, self._sizes_in)]
+        outs = [np.empty((n, c, r)) for r, c in self._sizes_out]
+        size = min(_BLOCK, 1 << max(0, (n - 1).bit_length()))
+        if size not in self._maps:
+            fm = self._dense.map(f"{self.fn.name()}_map{size}", "serial", size, [], [])
+            self._maps[size] = fm.buffer()
+        buf, trig = self._maps[size]
+        for start in range(0, n, size):
+            stop = min(start + size, n)
+            pad = size - (stop - start)
+            part_in = [np.ascontiguousarray(np.concatenate([a[start:stop]] + [a[start:start + 1]] * pad)) if pad
+                       else a[start:stop] for a in ins]
+            part_out = [np.empty((size,) + o.shape[1:]) for o in outs] if pad else [o[start:stop] for o in outs]
+            for k, a in enumerate(part_in):
+                buf.set_arg(k, memoryview(a))
+            for k, o in enumerate(part_out):
+                buf.set_res(k, memoryview(o))
+            trig()
+            if pad:
+                for o, po in zip(outs, part_out):
+                    o[start:stop] = po[:stop - start]
+        return [o[:, 0, :] if c == 1 else o.transpose(0, 2, 1) for o, (r, c) in zip(outs, self._sizes_out)]
 
     def name(self) -> str:
         return self.fn.name()
@@ -121,6 +158,14 @@ class _NumericCall:
             self._buf.set_res(k, memoryview(o))
         self._trig()
         return [o if c == 1 else o.reshape(c, r).T for o, (r, c) in zip(outs, self._sizes_out)]
+
+
+def _null_space(a: np.ndarray) -> np.ndarray:
+    """An orthonormal basis (columns) of the null space of ``a`` (as :func:`scipy.linalg.null_space`: SVD,
+    singular values above ``max(a.shape) · eps · σ_max`` count)."""
+    _, sv, vh = np.linalg.svd(a, full_matrices=True)
+    cut = max(a.shape) * np.finfo(float).eps * (sv.max() if sv.size else 0.0)
+    return vh[int(np.sum(sv > cut)):].T
 
 
 class EvaluationCounter:
@@ -155,7 +200,11 @@ class LocusProblems:
         pairs: list = []
         givens_qr([[js[j, i] for j in range(js.shape[0])] for i in range(js.shape[1])], js.shape[0], pairs)
         pv = ca.vertcat(*[ca.vertcat(a, b) for a, b in pairs]) if pairs else ca.SX(0, 1)
-        self._pairs = _NumericCall(ca.Function("givens_pairs", [y], [pv, ca.jacobian(pv, y)]))
+        # the pairs' values, and (built per tangent dimension on first use) their derivatives along the
+        # directions of a basis (forward mode: not the whole Jacobian)
+        self._pair_values = _NumericCall(ca.Function("givens_pairs", [y], [pv]))
+        self._pv, self._y = pv, y
+        self._pairs_along: dict = {}
         self._rank = float(Tolerances.of(tolerances).rank)
         self.n_constraints = int(g.numel())
         self._axes = _NumericCall(ca.Function("axes", [y], [ax, ca.jacobian(ax, y)]))
@@ -176,6 +225,7 @@ class LocusProblems:
             self._extended[k] = _NumericCall(ca.Function(f"extended_{KINDS[k]}", [z, a0, d], [e, ca.jacobian(e, z)]))
 
         self._slopes: dict = {}
+        self._g, self._rank_drop = g, None
 
     def _slope_functions(self, kind: str):
         """``∂T/∂n`` on the solution surface, ``n`` a direction of the dimensionless axes (built on first use).
@@ -239,6 +289,61 @@ class LocusProblems:
         a, b, c = (float(v[0]) for v in self._tests(y))
         return {Kind.DKP_INPUT: a, Kind.DKP_OUTPUT: b, "im": c}
 
+    # batches (one mapped CasADi call per block, one batched Gauss–Newton: no loop of scalar solves)
+    def tests_many(self, y: np.ndarray) -> dict[str, np.ndarray]:
+        """:meth:`tests` at the rows of ``y`` (N, nf): arrays (N,)."""
+        a, b, c = self._tests.many(np.atleast_2d(y))
+        self.counter.n += len(a)
+        return {Kind.DKP_INPUT: a[:, 0], Kind.DKP_OUTPUT: b[:, 0], "im": c[:, 0]}
+
+    def solve_square_many(self, targets: np.ndarray, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`solve_square` at N dimensionless axis values (rows of ``targets``) from the rows of ``y0``.
+
+        One :func:`symkin.curves.corrector.gauss_newton_batch` on the mapped square problem
+        (the same rows and tolerance as the single solve).  Returns ``(y, converged)``.
+        """
+        targets = np.atleast_2d(np.asarray(targets, float))
+
+        def fun(z, rows):
+            self.counter.n += len(rows)
+            return self._square.many(z, targets[rows])
+
+        out = gauss_newton_batch(fun, np.atleast_2d(y0), tol=LOCUS_NEWTON_TOL, max_iterations=SQUARE_ITERATIONS,
+                                 norm="2")
+        return out.z, out.converged
+
+    def polish_rank_drop_many(self, y0: np.ndarray, iterations: int) -> np.ndarray:
+        """Gauss–Newton steps towards a rank drop of the constraints from each row of ``y0`` (N, nf), one batch.
+
+        The system of :func:`symkin.paths.events.refine_rank_drop` with ``drop = 1``:
+        ``(Φ_S/ℓ, holds)(y) = 0``, ``C'(y)ᵀ ψ = 0``, ``ψ · ψ⁰ = 1`` in ``(y, ψ)``, ``ψ⁰`` the
+        left singular vector of the smallest singular value of ``C'(y0)``, here with the
+        exact second derivatives (CasADi) and all starts at once
+        (:func:`symkin.curves.corrector.gauss_newton_batch`, at most ``iterations`` steps; a
+        start whose residual grows is left where it is).  Returns the configurations reached
+        (N, nf): a screen, not a located point (the caller evaluates the IM indicator there).
+        """
+        y0 = np.atleast_2d(np.asarray(y0, float))
+        nf, m = self.system.nf, self.n_constraints
+        if self._rank_drop is None:
+            y = ca.SX.sym("y", nf)
+            psi, psi0 = ca.SX.sym("psi", m), ca.SX.sym("psi0", m)
+            g = ca.substitute(self._g, self._y, y)
+            w = ca.vertcat(y, psi)
+            f = ca.vertcat(g, ca.mtimes(ca.jacobian(g, y).T, psi), ca.dot(psi, psi0) - 1.0)
+            self._rank_drop = _NumericCall(ca.Function("rank_drop", [w, psi0], [f, ca.jacobian(f, w)]))
+        jac = self._constraints.many(y0)[1]
+        u = np.linalg.svd(jac, full_matrices=True)[0]
+        psi0 = u[:, :, m - 1]
+        w0 = np.hstack([y0, psi0])
+
+        def fun(z, rows):
+            self.counter.n += len(rows)
+            return self._rank_drop.many(z, psi0[rows])
+
+        out = gauss_newton_batch(fun, w0, tol=LOCUS_NEWTON_TOL, max_iterations=iterations, norm="2")
+        return out.z[:, :nf]
+
     def degenerate(self, y) -> bool:
         """Whether the kernel's derivative at ``y`` is one-sided: a Givens pair ``(a, b) = (0, 0)``
         whose entries do not stay 0 on the solution surface ``(Φ_S/ℓ, holds) = 0`` through ``y``.
@@ -252,17 +357,25 @@ class LocusProblems:
         an orthonormal basis of the surface's tangent space are at most ``Tolerances.rank``
         (``y`` and the rows are dimensionless).
         """
-        v, jac = self._pairs(y)
-        v = np.array(v).ravel()
+        v = self._pair_values(y)[0]
         if v.size == 0:
             return False
         both = np.flatnonzero((v[0::2] == 0.0) & (v[1::2] == 0.0))
         if both.size == 0:
             return False
-        jac = np.array(jac)
+        tangent_space = _null_space(self._constraints(y)[1])
+        if tangent_space.shape[1] == 0:
+            return False
         rows = np.concatenate([2 * both, 2 * both + 1])
-        tangent_space = null_space(np.array(self._constraints(y)[1]))
-        return bool(np.max(np.abs(jac[rows] @ tangent_space), initial=0.0) > self._rank)
+        k = tangent_space.shape[1]
+        if k not in self._pairs_along:
+            basis = ca.SX.sym("basis", self.system.nf, k)
+            self._pairs_along[k] = _NumericCall(ca.Function(f"givens_pairs_along{k}", [self._y, basis],
+                                                            [ca.jtimes(self._pv, self._y, basis)]))
+        along = self._pairs_along[k](y, tangent_space.T.ravel())[0]  # CasADi reads the basis column by column
+        along = along.reshape(-1, k) if along.ndim == 1 else along
+        along = along[rows]
+        return bool(np.max(np.abs(along), initial=0.0) > self._rank)
 
     def curve(self, kind: str) -> "CurveFunction":
         return CurveFunction(self._curve[kind], self.counter, degenerate=self.degenerate)
@@ -273,7 +386,7 @@ class LocusProblems:
 
     def solve_square(self, target: np.ndarray, y0: np.ndarray) -> np.ndarray:
         """Free coordinates ``y`` at dimensionless axis values ``target`` (Newton from ``y0``)."""
-        return newton(CountedFunction(self._square, self.counter, (np.asarray(target, float),)), y0, tol=LOCUS_NEWTON_TOL, max_iterations=25)[0]
+        return newton(CountedFunction(self._square, self.counter, (np.asarray(target, float),)), y0, tol=LOCUS_NEWTON_TOL, max_iterations=SQUARE_ITERATIONS)[0]
 
     def square_singular(self, y: np.ndarray, tol: Tolerances) -> bool:
         """Whether the square position problem is singular at ``y``: ``σ_min ≤ event_threshold · σ_max``.

@@ -98,7 +98,8 @@ class RefineStats:
     ``located`` crossings and folds located on the grid, ``seeded`` interior curves started
     from meeting points on boundary curves, ``duplicates`` brackets or seeds that lay on a
     curve already traced; ``dips`` grid dips subdivided, ``subdivided`` points the quadtree
-    solved, ``double_zeros`` double zeros located; ``*_evaluations`` count
+    solved, ``double_zeros`` double zeros located; ``im_candidates`` IM-indicator minima refined to an
+    IM configuration, ``im_screened`` minima left after the batched screen; ``*_evaluations`` count
     residual-and-Jacobian evaluations.
     """
 
@@ -107,6 +108,7 @@ class RefineStats:
     located: int = 0
     seeded: int = 0
     im_candidates: int = 0
+    im_screened: int = 0
     duplicates: int = 0
     failed: int = 0
     locate_evaluations: int = 0
