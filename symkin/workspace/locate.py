@@ -11,9 +11,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from symkin.errors import NotConvergedError
-from symkin.paths.continuation import newton
+from symkin.curves.corrector import gauss_newton
 from symkin.tolerances import DEFAULT, Tolerances
-from symkin.workspace.locus_problems import KINDS, LOCUS_NEWTON_TOL, POLISH_STEP, LocusProblems
+from symkin.workspace.locus_problems import KINDS, LOCUS_NEWTON_TOL, POLISH_ITERATIONS, POLISH_STEP, LocusProblems
 
 __all__ = ["locate_crossing", "locate_fold", "locate_double_zero"]
 
@@ -23,7 +23,8 @@ def _polish(pb: LocusProblems, kind: str, a0: np.ndarray, d: np.ndarray, y: np.n
             ) -> tuple[np.ndarray, float]:
     """Gauss–Newton on the extended system in ``(y, s)``; raises NotConvergedError."""
     problem = pb.extended(kind, a0, d)
-    z, _, _ = newton(problem, np.append(y, s), tol=LOCUS_NEWTON_TOL, max_iterations=30)
+    z = gauss_newton(problem.residual_and_jacobian, np.append(y, s), tol=LOCUS_NEWTON_TOL,
+                     max_iterations=POLISH_ITERATIONS).raise_unless_converged("crossing").z
     # polished: one more Newton step is below the relative target
     r, j = problem.residual_and_jacobian(z)
     step = np.linalg.lstsq(j, -r, rcond=None)[0]
@@ -128,7 +129,8 @@ def locate_double_zero(pb: LocusProblems, kind: str, a0: np.ndarray, y0: np.ndar
         raise NotConvergedError("no minimum of |T| on the line through the dip")
     s = brentq(g, *bracket, xtol=1e-9)
     y = cache[min(cache, key=lambda k: abs(k - s))]
-    z, _, _ = newton(pb.slope_extended(kind, a0, d), np.append(y, s), tol=LOCUS_NEWTON_TOL, max_iterations=30)
+    z = gauss_newton(pb.slope_extended(kind, a0, d).residual_and_jacobian, np.append(y, s), tol=LOCUS_NEWTON_TOL,
+                     max_iterations=POLISH_ITERATIONS).raise_unless_converged("double zero").z
     if not abs(z[-1]) <= 1.0 + 1e-9 or abs(pb.tests(z[:-1])[kind]) > tol.event_threshold:
         raise NotConvergedError("the minimum of |T| on the line is not a zero", y=z[:-1])
     return z[:-1], float(z[-1])

@@ -58,23 +58,39 @@ Algorithm
    when the relative axis speed there is at most :attr:`Tolerances.event_threshold`
    (:func:`locate_cusp`); it neither stops nor splits the curve.  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
-4. **IM points** — at each grid node whose IM indicator is below its eight neighbours,
-   the cells around it are subdivided (:func:`symkin.workspace.quadtree.subdivide` with the
-   IM indicator as ``T``: it has no sign change, so the quadtree descends to the finest cell
-   holding its smallest value), and from there (then from the node)
-   :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
-   the constraints lose rank; the core decides whether it is IM (it is then reported).
+4. **IM points** — at each grid node whose IM indicator is below its eight neighbours
+   (:func:`symkin.workspace.im_points.im_candidates`), the cells around it are subdivided
+   (:func:`symkin.workspace.quadtree.subdivide_many` with the IM indicator as ``T``: it has no
+   sign change, so the quadtree descends to the finest cell holding its smallest value) — all
+   minima together, each level's new points of every minimum solved in one batch
+   (:meth:`LocusProblems.solve_square_many`: :func:`symkin.curves.corrector.gauss_newton_batch`
+   on a CasADi ``Function.map`` of the square problem).  **Screen**: every start (the finest
+   points, then the node) takes one batched Gauss–Newton polish towards a rank drop of the
+   constraints (:meth:`LocusProblems.polish_rank_drop_many`), and a minimum is refined only when
+   the smallest relative IM indicator reached is at most :attr:`Tolerances.event_threshold`;
+   then :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
+   the constraints lose rank (:func:`symkin.workspace.im_points.locate_im`); the core decides
+   whether it is IM (it is then reported).
 5. **Dips, quadtree, double zeros** — a grid point whose ``|T|`` is a near-zero minimum along
    a grid line (:func:`symkin.workspace.quadtree.dips`) starts an adaptive subdivision of the
-   cells around it (:func:`symkin.workspace.quadtree.subdivide`, to :data:`~symkin.workspace.quadtree.DEPTH`):
+   cells around it (to :data:`~symkin.workspace.quadtree.DEPTH`; every dip of a kind not next
+   to a curve traced so far subdivided together, one batch per level and sub-step, as in step 4):
    its finest sign changes are located as in step 1 (two crossings in one cell, a small
    closed curve), its finest minima by :func:`locate_double_zero` (``T = 0`` with
    ``∂T/∂n = 0``); a double zero the core confirms is traced by :func:`trace_double_zero`.
+   Dips are taken in grid order; one that a curve traced from an earlier dip passes is skipped.
 6. **Points** — where a curve ends on the mode boundary or near IM, the end
    configuration is classified by the core (:meth:`Evaluators.indicators_at`) and
    reported as a :class:`SingularPoint` (``kind`` ``"IM"`` when IM, else ``"meeting"``
    when it has two or more types, else its type); a cusp inside the box is reported with
    ``kind`` ``"cusp"`` and the core's types.
+
+Where it lives: the problems on a locus (:mod:`~symkin.workspace.locus_problems`), the grid and the
+results (:mod:`~symkin.workspace.refine_data`), locating crossings, folds and double zeros
+(:mod:`~symkin.workspace.locate`), IM points (:mod:`~symkin.workspace.im_points`), re-solving a
+grid configuration from the seed (:mod:`~symkin.workspace.reseed`), cusps
+(:mod:`~symkin.workspace.cusps`), tracing (:mod:`~symkin.workspace.tracing`), classifying and
+recording points (:mod:`~symkin.workspace.singular_points`); this module is the driver.
 
 Accuracy: every located and traced point satisfies ``‖(Φ/ℓ, holds, T)‖ ≤ 1e-12``
 (Newton's tolerance), i.e. it lies on its locus to ~1e-12 relative to ``ℓ`` where the

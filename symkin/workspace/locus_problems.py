@@ -12,15 +12,14 @@ import casadi as ca
 import numpy as np
 
 from symkin.analysis.batch import Evaluators
-from symkin.curves.corrector import gauss_newton_batch
+from symkin.curves.corrector import gauss_newton, gauss_newton_batch
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.kinds import Kind
 from symkin.numeric.evaluators import INDICATOR_NAMES
 from symkin.numeric.sx_linalg import givens_qr
-from symkin.paths.continuation import newton
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["KINDS", "OTHER_KIND", "LOCUS_NEWTON_TOL", "POLISH_STEP", "SQUARE_ITERATIONS", "LocusSystem", "LocusProblems",
+__all__ = ["KINDS", "OTHER_KIND", "LOCUS_NEWTON_TOL", "POLISH_STEP", "POLISH_ITERATIONS", "SQUARE_ITERATIONS", "LocusSystem", "LocusProblems",
            "CountedFunction", "CurveFunction", "EvaluationCounter"]
 
 #: curve kinds and the indicator output that defines each
@@ -31,6 +30,8 @@ OTHER_KIND = {Kind.DKP_INPUT: Kind.DKP_OUTPUT, Kind.DKP_OUTPUT: Kind.DKP_INPUT}
 LOCUS_NEWTON_TOL = 1e-12
 #: relative step at which a located point counts as polished (the issue's 1e-10)
 POLISH_STEP = 1e-10
+#: Gauss–Newton iterations of a located point on its extended system (crossing, fold, double zero, box edge)
+POLISH_ITERATIONS = 30
 #: Newton iterations of the square problem at one axis point (one point or a batch)
 SQUARE_ITERATIONS = 25
 #: largest number of points per mapped CasADi call of a batch
@@ -386,7 +387,9 @@ class LocusProblems:
 
     def solve_square(self, target: np.ndarray, y0: np.ndarray) -> np.ndarray:
         """Free coordinates ``y`` at dimensionless axis values ``target`` (Newton from ``y0``)."""
-        return newton(CountedFunction(self._square, self.counter, (np.asarray(target, float),)), y0, tol=LOCUS_NEWTON_TOL, max_iterations=SQUARE_ITERATIONS)[0]
+        square = CountedFunction(self._square, self.counter, (np.asarray(target, float),))
+        return gauss_newton(square.residual_and_jacobian, y0, tol=LOCUS_NEWTON_TOL,
+                            max_iterations=SQUARE_ITERATIONS).raise_unless_converged("square position problem").z
 
     def square_singular(self, y: np.ndarray, tol: Tolerances) -> bool:
         """Whether the square position problem is singular at ``y``: ``σ_min ≤ event_threshold · σ_max``.

@@ -11,13 +11,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from symkin.errors import NotConvergedError
-from symkin.paths.continuation import CurvePoint, Settings, continue_curve, newton, tangent
+from symkin.curves.corrector import gauss_newton
+from symkin.paths.continuation import CurvePoint, Settings, continue_curve, tangent
 from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change
 from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace.cusps import axis_velocity, locate_cusp
 from symkin.workspace.im_points import locate_im
-from symkin.workspace.locus_problems import KINDS, LOCUS_NEWTON_TOL, OTHER_KIND, CurveFunction, LocusProblems
+from symkin.workspace.locus_problems import (KINDS, LOCUS_NEWTON_TOL, OTHER_KIND, POLISH_ITERATIONS, CurveFunction,
+                                             LocusProblems)
 
 __all__ = ["segment_distance", "polyline_distance", "trace_locus", "trace_double_zero", "HalfCurve"]
 
@@ -118,22 +120,16 @@ def _trace_half(pb: LocusProblems, kind: str, y0: np.ndarray, t0: np.ndarray, bo
                 break
             if t["im"] < tol.near_branch or not all(math.isfinite(t[k]) for k in KINDS):
                 # T is not defined at IM: the curve ends here; the IM configuration is refined
-                end, end_y = Kind.IM, point.y
+                end, end_y = Kind.IM, _im_end(pb, point.y)
                 out.append(point.y)
-                exact = locate_im(pb, point.y)
-                if exact is not None:
-                    end_y = exact
                 break
             if pprev is not None and r_prev < r_pprev and r_prev < t["im"] and r_prev <= settings.max_step:
                 # a local minimum of the relative IM indicator σ_{F+1}, within about a step of zero (it changes
                 # by about the step over a step): an IM point where loci meet?
                 ev_im = locate_minimum(problem, im_test, pprev, prev, point)
                 if ev_im is not None:
-                    end, end_y = Kind.IM, ev_im.y
+                    end, end_y = Kind.IM, _im_end(pb, ev_im.y)
                     out.append(ev_im.y)
-                    exact = locate_im(pb, ev_im.y)
-                    if exact is not None:
-                        end_y = exact
                     break
             if kind == kind_b and t[interior] * i_prev < 0:
                 test = TestFunction(interior, lambda yy, tt: pb.tests(yy)[interior])
@@ -158,6 +154,12 @@ def _trace_half(pb: LocusProblems, kind: str, y0: np.ndarray, t0: np.ndarray, bo
     except NotConvergedError:  # SteppingError, or a residual/Jacobian that is not finite
         end = "stalled"
     return HalfCurve(out, end, end_y, meetings, cusps)
+
+
+def _im_end(pb: LocusProblems, y: np.ndarray) -> np.ndarray:
+    """The end of a curve next to IM: the IM configuration refined from ``y`` (:func:`locate_im`), else ``y``."""
+    exact = locate_im(pb, y)
+    return y if exact is None else exact
 
 
 def _branch_test(problem: CurveFunction, y: np.ndarray, t: np.ndarray) -> float:
@@ -188,12 +190,14 @@ def _onto_box(pb: LocusProblems, problem: CurveFunction, y_in: np.ndarray, y_out
         return y_in
     guess = y_in + best * (y_out - y_in)
 
-    def on_edge(y, k=which, e=edge):
+    def with_edge(y, k=which, e=edge):
+        r, j = problem.residual_and_jacobian(y)
         a, ja = pb.axes_and_jacobian(y)
-        return np.array([float(a[k]) - e]), np.array(ja)[k:k + 1, :]
+        return np.append(r, float(a[k]) - e), np.vstack([j, np.asarray(ja)[k:k + 1, :]])
 
     try:
-        return newton(problem, guess, extra=on_edge, tol=LOCUS_NEWTON_TOL, max_iterations=30)[0]
+        return gauss_newton(with_edge, guess, tol=LOCUS_NEWTON_TOL,
+                            max_iterations=POLISH_ITERATIONS).raise_unless_converged("box edge").z
     except NotConvergedError:
         return y_in
 
@@ -263,10 +267,7 @@ def _trace_double_half(pb: LocusProblems, kind: str, y0: np.ndarray, t0: np.ndar
                     end = Kind.BOX
                     break
                 if t["im"] < tol.near_branch:
-                    end, end_y = Kind.IM, point.y
-                    exact = locate_im(pb, point.y)
-                    if exact is not None:
-                        end_y = exact
+                    end, end_y = Kind.IM, _im_end(pb, point.y)
                     out.append(point.y)
                     break
                 if not abs(t[kind]) <= tol.event_threshold:
