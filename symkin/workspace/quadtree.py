@@ -43,6 +43,8 @@ __all__ = ["DIP_RATIO", "DEPTH", "dips", "dip_mask", "Subdivision", "subdivide",
 DIP_RATIO = 1.0
 #: subdivision depth: a flagged cell is cut down to cells of side ``1 / 2**DEPTH`` of the grid's
 DEPTH = 3
+#: relative slack of the box test of a subdivision point (``a_centre + fine·p`` on the box edge, rounded)
+_BOX_SLACK = 1e-12
 #: sub-steps per finest cell when a subdivision point is solved from its nearest solved point
 _MARCH = 2
 
@@ -157,7 +159,7 @@ def subdivide_many(solve: Solve, value: Value, centres, cell: np.ndarray, lo: np
 
     def inside(tree, p):
         a = tree.a_of(p, fine)
-        return bool(np.all(a >= lo - 1e-12 * np.abs(lo)) and np.all(a <= hi + 1e-12 * np.abs(hi)))
+        return bool(np.all(a >= lo - _BOX_SLACK * np.abs(lo)) and np.all(a <= hi + _BOX_SLACK * np.abs(hi)))
 
     top = [((u, v), m) for u in (-m, 0) for v in (-m, 0)]
     for tree in trees:
