@@ -14,6 +14,7 @@ import argparse
 import importlib
 import sys
 import traceback
+import warnings
 
 from symkin.commands import COMMANDS, Output
 from symkin.errors import ModelError, ModelFileError, SymkinError
@@ -52,9 +53,16 @@ def _format_error(exc: SymkinError) -> str:
     return str(exc)
 
 
+def _one_line(message, category, filename, lineno, line=None) -> str:
+    """A warning as the user reads it: one line, no source location."""
+    return f"{category.__name__}: {message}\n"
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    shown = warnings.formatwarning
+    warnings.formatwarning = _one_line
     try:
         out: Output = args._run(args)
     except SymkinError as exc:
@@ -68,6 +76,8 @@ def main(argv: list[str] | None = None) -> int:
         print("symkin: internal error (this is a bug; please report it with the traceback above)",
               file=sys.stderr)
         return 3
+    finally:
+        warnings.formatwarning = shown
     if out.text:
         sys.stdout.write(out.text if out.text.endswith("\n") else out.text + "\n")
     if out.message:

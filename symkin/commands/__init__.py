@@ -13,7 +13,7 @@ from symkin.errors import ModelError, SymkinError
 
 __all__ = ["COMMANDS", "Output", "in_file"]
 
-COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen"]
+COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen", "cache"]
 
 
 @dataclass(frozen=True)
