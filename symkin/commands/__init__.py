@@ -7,11 +7,15 @@ its name to ``COMMANDS`` to add a subcommand.
 """
 from __future__ import annotations
 
+import os
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
 
-from symkin.errors import ModelError, SymkinError
+from symkin.errors import ModelError, SymkinError, check_interrupt, interrupts_deferred
 
-__all__ = ["COMMANDS", "Output", "in_file"]
+__all__ = ["COMMANDS", "Output", "in_file", "write_output"]
 
 COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen", "cache"]
 
@@ -38,3 +42,33 @@ def in_file(exc: SymkinError, model: str) -> SymkinError:
     elif not str(exc).startswith(f"{model}: "):
         exc.args = (f"{model}: {exc}",) + tuple(exc.args[1:])
     return exc
+
+
+def write_output(target, write: Callable[[Path], object]) -> Path:
+    """Write an output file whole or not at all: ``write(tmp)`` fills a temporary file in the
+    target's folder, which then replaces ``target`` with ``os.replace``.
+
+    An interrupt (or any error) before the replacement leaves ``target`` as it was and
+    removes the temporary file.
+    """
+    target = Path(target)
+    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    os.close(fd)
+    tmp = Path(name)
+    _readable(tmp)
+    try:
+        write(tmp)
+        check_interrupt()
+        with interrupts_deferred():
+            os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return target
+
+
+def _readable(path: Path) -> None:
+    """Give a temporary file (``mkstemp``: mode 0600) the mode a new file gets under the umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(path, 0o666 & ~mask)

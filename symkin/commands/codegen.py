@@ -15,7 +15,7 @@ import shlex
 import time
 from pathlib import Path
 
-from symkin.commands import Output
+from symkin.commands import Output, write_output
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -56,7 +56,7 @@ def run(args) -> Output:
     c_path, h_path = codegen.generate_sources(ev, out, stem)
     man = codegen.manifest(ev)
     json_path = out / f"{stem}.json"
-    json_path.write_text(json.dumps(man, indent=1))
+    write_output(json_path, lambda tmp: tmp.write_text(json.dumps(man, indent=1)))
     lines = [f"{mech.name}: evaluators written to {out}/",
              f"  {c_path.name}  C sources (CasADi {man['casadi']})",
              f"  {h_path.name}  header: argument order, shapes and names of every function",

@@ -6,9 +6,8 @@ import json
 import sys
 from pathlib import Path
 
-from symkin.commands import Output
+from symkin.commands import Output, in_file, write_output
 from symkin.commands.analyze import tolerance
-from symkin.commands import in_file
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -115,16 +114,13 @@ def run(args) -> Output:
             bar.close()
     notes = []
     if args.npz:
-        notes.append(f"arrays written to {m.save(args.npz)}")
+        notes.append(f"arrays written to {write_output(args.npz, m.save)}")
     if args.plot:
         notes.append(_plot(m, args.plot, mech))
     if args.json is not None:
         text = json.dumps(m.to_dict(), indent=1)
         if args.json == "-":
             return Output(text, message="\n".join(notes))
-        target = Path(args.json)
-        tmp = target.with_name(target.name + ".tmp")
-        tmp.write_text(text + "\n")
-        tmp.replace(target)
+        target = write_output(args.json, lambda tmp: tmp.write_text(text + "\n"))
         notes.append(f"map written to {target}")
     return Output(_text(m), message="\n".join(notes))

@@ -7,7 +7,7 @@ import json
 import math
 import sys
 
-from symkin.commands import Output, in_file
+from symkin.commands import Output, in_file, write_output
 from symkin.commands.analyze import tolerance
 from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
@@ -131,12 +131,8 @@ def run(args) -> Output:
 
         notes.append(f"figure written to {save_path_figures(path, args.plot, unit=args.unit)}")
     if args.csv:
-        from pathlib import Path as _P
-
-        target = _P(args.csv)
-        tmp = target.with_name(target.name + ".tmp")
-        tmp.write_text(_csv(path, args.unit))
-        tmp.replace(target)
+        text = _csv(path, args.unit)
+        target = write_output(args.csv, lambda tmp: tmp.write_text(text))
         notes.append(f"{len(path.points)} points written to {target}")
     if args.json:
         return Output(json.dumps(path.to_dict(args.unit), indent=1), message="\n".join(notes))

@@ -319,6 +319,9 @@ def write_atomic(path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file in the same directory and ``os.replace``."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp, 0o666 & ~mask)  # the mode of a new file, not mkstemp's 0600
     try:
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
