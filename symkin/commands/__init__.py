@@ -15,7 +15,8 @@ from typing import Callable
 
 from symkin.errors import ModelError, SymkinError, check_interrupt, interrupts_deferred
 
-__all__ = ["COMMANDS", "Output", "in_file", "write_output"]
+__all__ = ["COMMANDS", "Output", "in_file", "write_output", "finite_number", "positive_number",
+           "non_negative_number", "check_holds", "check_output_folder"]
 
 COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen", "cache"]
 
@@ -72,3 +73,68 @@ def _readable(path: Path) -> None:
     mask = os.umask(0)
     os.umask(mask)
     os.chmod(path, 0o666 & ~mask)
+
+
+# ---------------------------------------------------------------------- numbers a user types
+def _number(text: str, what: str, test, ok: str) -> float:
+    import argparse
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value) or not test(value):
+        raise argparse.ArgumentTypeError(f"{text!r}: {what} must be {ok}")
+    return value
+
+
+def finite_number(text: str) -> float:
+    """An argparse type: a finite number (``nan``, ``inf`` and overflowing values are refused)."""
+    return _number(text, "the value", lambda v: True, "a finite number")
+
+
+def positive_number(text: str) -> float:
+    """An argparse type: a finite number > 0."""
+    return _number(text, "the value", lambda v: v > 0, "a finite number greater than 0")
+
+
+def non_negative_number(text: str) -> float:
+    """An argparse type: a finite number >= 0."""
+    return _number(text, "the value", lambda v: v >= 0, "a finite number, 0 or more")
+
+
+def check_holds(holds, option: str = "--hold") -> None:
+    """Every ``LABEL=VALUE`` of ``holds`` has a finite VALUE (``LABEL`` alone: the model's value)."""
+    import math
+
+    for text in holds:
+        label, eq, value = str(text).rpartition("=")
+        if not eq:
+            continue
+        try:
+            number = float(value)
+        except ValueError:
+            raise SymkinError(f"{option} {text!r}: VALUE must be a number") from None
+        if not math.isfinite(number):
+            raise SymkinError(f"{option} {text!r}: VALUE must be a finite number")
+
+
+def check_output_folder(path, option: str) -> Path:
+    """The folder ``path`` (created if needed) or a :class:`SymkinError` saying why it cannot be written."""
+    folder = Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SymkinError(f"{option} {folder}: cannot create the folder ({exc.strerror or exc})") from None
+    if not folder.is_dir():
+        raise SymkinError(f"{option} {folder}: exists and is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise SymkinError(f"{option} {folder}: the folder is not writable")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".symkin-probe-", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise SymkinError(f"{option} {folder}: cannot write into the folder ({exc.strerror or exc})") from None
+    return folder
