@@ -160,7 +160,13 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     if scale < MIN_LENGTH:
         out.add("nodes", f"the model's length scale (mean distance between the nodes of a link) is "
                          f"{scale:.3g}, below {MIN_LENGTH:g}: lengths this small underflow; use another unit")
-    _check_link_geometry(nodes, links, scale, tolerances.geometry, out)
+    outliers = _outliers(nodes, links, scale)
+    for name, coordinate, typical in outliers:
+        out.add(f"nodes.{name}", f"coordinate {coordinate:.6g} is an outlier: {abs(coordinate) / typical:.3g} "
+                                 f"times the model's typical size {typical:.3g}, so that every ordinary link "
+                                 "would be taken for zero length (a typo, or another unit?)")
+    if not outliers:
+        _check_link_geometry(nodes, links, scale, tolerances.geometry, out)
     used = {n for ns in links.values() for n in ns}
     for n in nodes:
         if n not in used:
@@ -291,6 +297,40 @@ def _coincident_groups(points: list[tuple[str, tuple[float, ...]]], radius: floa
     for i, (name, _) in enumerate(points):
         groups[root(i)].append(name)
     return [g for g in groups.values() if len(g) > 1]
+
+
+#: a node this many times the model's typical size away from the median node is an outlier
+OUTLIER_RATIO = 1e6
+
+
+def _outliers(nodes, links, scale) -> list[tuple[str, float, float]]:
+    """Nodes with a coordinate so far out that the length scale no longer describes the model.
+
+    The typical size is the median distance of the nodes from their median point (robust
+    to a few wild values); a node more than :data:`OUTLIER_RATIO` typical sizes from that
+    point is returned as ``(name, its farthest coordinate, typical size)``.  Looked for
+    only when the length scale is itself that far above the typical size.
+    """
+    from statistics import median
+
+    points = [(n, p) for n, p in nodes.items() if p is not None]
+    dims = {len(p) for _, p in points}
+    if len(points) < 3 or len(dims) != 1:
+        return []
+    dim = dims.pop()
+    centre = [median(p[k] for _, p in points) for k in range(dim)]
+    spread = [d for d in (math.dist(p, centre) for _, p in points) if d > 0]
+    if not spread:
+        return []
+    typical = median(spread)
+    if scale <= OUTLIER_RATIO * typical:
+        return []
+    found = []
+    for name, p in points:
+        if math.dist(p, centre) > OUTLIER_RATIO * typical:
+            far = max(range(dim), key=lambda k: abs(p[k] - centre[k]))
+            found.append((name, p[far], typical))
+    return found
 
 
 def _check_link_geometry(nodes, links, scale, tol, out: _Collector) -> None:
