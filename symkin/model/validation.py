@@ -6,6 +6,7 @@ for a user's mistake except that single error.
 """
 from __future__ import annotations
 
+import json
 import math
 from collections import Counter, defaultdict
 from itertools import product
@@ -463,10 +464,20 @@ def _parse_parameters(items: Any, where: str, ctx: dict, out: _Collector) -> lis
     if not isinstance(items, (list, tuple)):
         out.add(where, "must be a list of tables such as {rotation = \"crank\"}")
         return []
-    params, first = [], {}
+    params, first, first_raw = [], {}, {}
     repeats: dict[tuple, list[int]] = defaultdict(list)
     for k, item in enumerate(items):
         key = f"{where}[{k}]"
+        try:  # the same entry again is counted, not checked again
+            raw = json.dumps(item, sort_keys=True, default=repr)
+        except (TypeError, ValueError):
+            raw = None
+        if raw is not None:
+            if raw in first_raw:
+                repeats[first_raw[raw]].append(k)
+                continue
+            first_raw[raw] = ("entry", k)
+            first[("entry", k)] = k
         if not isinstance(item, Mapping):
             out.add(key, f"must be a table such as {{rotation = \"crank\"}}, got {_short(item)}")
             continue
@@ -482,6 +493,8 @@ def _parse_parameters(items: Any, where: str, ctx: dict, out: _Collector) -> lis
         if same in first:
             repeats[same].append(k)
             continue
+        if raw is not None:
+            first_raw[raw] = same
         first[same] = k
         params.append(param)
     for same, again in repeats.items():
