@@ -111,9 +111,9 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
 
 
 def _output_kind(result: Singularities) -> str | None:
-    from symkin.solutions.circuits import _output_coordinate
+    from symkin.solutions.frame_coordinates import output_coordinate
 
-    c = _output_coordinate(result.mechanism)
+    c = output_coordinate(result.mechanism)
     return None if c is None else c.kind
 
 
