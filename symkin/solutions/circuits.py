@@ -9,7 +9,10 @@ on the paths it simulates; this module makes the search global:
    (:mod:`symkin.solutions.dkp_system`) is solved by homotopy continuation: its real
    solutions are every configuration where the input is stationary along the curve
    (DKP-input, paper §III) and every branch point (IM).  The same is done for the
-   output when the model has one scalar output (DKP-output and IM).
+   output when the model has one scalar output (DKP-output and IM), and for the rotation of
+   every rocker (a planar link with one fixed node, :mod:`symkin.solutions.lim_systems`) other
+   than the input's and the output's: its real solutions are every configuration where that
+   link is locked (LIM, paper §V; check ``LIM:<link>``) and every IM point.
 2. **Seeds.**  :func:`symkin.solve_all` at one input value (the middle of the interval
    between critical values that holds the model's input), and every real solution of step 1:
    a circuit on which the input turns fully crosses every input value; on any other circuit
@@ -30,7 +33,9 @@ on the paths it simulates; this module makes the search global:
    continuation may go on along either branch; the half-branches make the search
    complete whichever it took, and the answer independent of it.
 4. **Singular configurations and circuits.**  Every event that the traces locate (DKP-input,
-   DKP-output, IM), classified by :func:`symkin.analyze`; one configuration met by several
+   DKP-output, IM), classified by :func:`symkin.analyze`, and every real solution of a LIM system
+   (kind ``LIM``: it joins the configuration at the same place, or is listed on the traced branch
+   through it); one configuration met by several
    branches is one entry, and every IM event at a located branch point is that point (an IM
    event whose own location failed joins a branch point within ``√same_configuration``).
    Branches that share a configuration (a branch point, IM) are one circuit: a circuit is a
@@ -41,7 +46,9 @@ on the paths it simulates; this module makes the search global:
 5. **Cross-check.**  The real solutions of step 1 must be exactly the traced configurations
    of the kinds they detect (DKP-input or IM; DKP-output or IM), each matched within
    ``same_configuration``.  Both counts are reported; a disagreement is a field
-   (``agree = False``, the unmatched configurations) and a warning, never silent.
+   (``agree = False``, the unmatched configurations) and a warning, never silent.  The traces
+   locate no LIM events: a LIM system's traced side is its solutions that lie on a traced branch
+   (``traced_by = "branches"``).
 
 **Beyond the homotopy.**  A square system whose homotopy would track more than ``max_paths``
 paths (its total degree, summed over the factors of the determinant) is solved exactly instead
@@ -68,7 +75,9 @@ against an independent root search.
 
 Not covered: a circuit on which the input is locked (constant), whose points are all
 critical (not isolated solutions of step 1) and which no seed at another input value meets;
-branch points where the nullity exceeds 2 (located, reported, their branches not enumerated).
+branch points where the nullity exceeds 2 (located, reported, their branches not enumerated);
+a link locked along a whole branch (the double butterfly's LIM branch): its LIM system is not
+zero-dimensional, its check is ``skipped`` (msolve says why).
 """
 from __future__ import annotations
 
@@ -114,10 +123,10 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
                   max_turns: int = 4, max_arclength: float | None = None, max_paths: int = MAX_PATHS,
                   seed: int = 0, samples: list[float] | None = None,
                   progress: Callable[[str], None] | None = None) -> Singularities:
-    """Every circuit of a 1-DOF mechanism and every DKP-input, DKP-output and IM configuration on it.
+    """Every circuit of a 1-DOF mechanism and every DKP-input, DKP-output, IM and LIM configuration on it.
 
     See the module docstring for the method.  Needs the optional extra ``symkin[global]``
-    (Bertini 2) for :func:`symkin.solve_all` and the square DKP systems.
+    (Bertini 2) for :func:`symkin.solve_all` and the square DKP and LIM systems.
 
     Parameters
     ----------
@@ -324,7 +333,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     checks = []
     for sq in systems:
         if sq.kind == Kind.LIM:
-            traced, by = _traced_lim(mech, search, in_value, entries, roots.get(sq.name, ([],))[0], sq.link)
+            traced, by = _traced_lim(mech, search, in_value, entries, roots.get(sq.name, ([],))[0], sq.link, same)
         else:
             traced, by = [as_dict(mech, it["x"]) for it in entries
                           if sq.kind in it["kinds"] or Kind.IM in it["kinds"]], "events"
@@ -394,14 +403,22 @@ def _warn(notes: list[str], msg: str) -> None:
 
 
 def _traced_lim(mech: Mechanism, search: CircuitSearch, in_value: CoordinateValue, entries: list[dict],
-                found: list[dict], link: str) -> tuple[list, str]:
+                found: list[dict], link: str, same: float) -> tuple[list, str]:
     """The traced side of a LIM check: the traced configurations where ``link`` is locked (or IM) when the
-    traces locate LIM events, else the LIM system's solutions that lie on a traced branch."""
+    traces locate LIM events, else the LIM system's solutions that lie on a traced branch: at a traced
+    configuration (within ``same``; a turning point of the input, where a branch touches the input value
+    without crossing it) or where a traced branch crosses their input value."""
     if _traces_locate_lim(search):
         return [as_dict(mech, it["x"]) for it in entries if Kind.IM in it["kinds"] or (
             Kind.LIM in it["kinds"] and it["analysis"] is not None and link in it["analysis"].locked_links)], "events"
-    on = [conf for conf in found if _branch_through(mech, search, in_value, conf) is not None]
+    on = [conf for conf in found if _entry_at(entries, free_coordinates(mech, conf), same) is not None
+          or _branch_through(mech, search, in_value, conf) is not None]
     return on, "branches"
+
+
+def _entry_at(entries: list[dict], q: np.ndarray, same: float) -> dict | None:
+    """The first configuration of ``entries`` within ``same`` of the free coordinates ``q``, or None."""
+    return next((it for it in entries if float(np.linalg.norm(it["q"] - q)) <= same), None)
 
 
 def _traces_locate_lim(search: CircuitSearch) -> bool:
@@ -422,10 +439,10 @@ def _add_lim(mech: Mechanism, search: CircuitSearch, in_value: CoordinateValue, 
     """
     for conf in found:
         q = free_coordinates(mech, conf)
-        near = [it for it in entries if float(np.linalg.norm(it["q"] - q)) <= same]
-        if near:
-            if Kind.LIM not in near[0]["kinds"]:
-                near[0]["kinds"].append(Kind.LIM)
+        near = _entry_at(entries, q, same)
+        if near is not None:
+            if Kind.LIM not in near["kinds"]:
+                near["kinds"].append(Kind.LIM)
             continue
         index = _branch_through(mech, search, in_value, conf)
         if index is None:

@@ -48,10 +48,8 @@ def sample_near_zero(critical: list[float], kind: str) -> float:
 
     Parameters
     ----------
-    critical : list of float
-        Critical input values (sorted; radians for an angle, wrapped to (−π, π]).
-    kind : {"angle", "length"}
-        The input's kind.
+    critical, kind
+        As for :func:`sample_gap`.
 
     Returns
     -------
@@ -80,20 +78,9 @@ def sample_near_zero(critical: list[float], kind: str) -> float:
 def midpoints(critical: list[float], kind: str) -> list[float]:
     """Input values midway between consecutive critical values (the model's value 0 when there is none).
 
-    Parameters
-    ----------
-    critical : list of float
-        Critical input values (sorted; radians for an angle, wrapped to (−π, π]).
-    kind : {"angle", "length"}
-        The input's kind.
+    ``critical`` and ``kind`` as for :func:`sample_gap`; for an angle the last interval wraps
+    round (through ±π).
 
-    Returns
-    -------
-    list of float
-        For an angle the last interval wraps round (through ±π).
-
-    Examples
-    --------
     >>> midpoints([-1.0, 1.0], "angle"), midpoints([], "length")
     ([0.0, 3.141592653589793], [0.0])
     """

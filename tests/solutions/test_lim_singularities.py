@@ -28,21 +28,11 @@ pytest.importorskip("bertini", reason="the homotopy solver is the optional extra
                                       "(pip install -e '.[global]')")
 
 from symkin.solutions.circuits import singularities  # noqa: E402
+from tests.solutions.test_solve_all import circle_points  # noqa: E402
 
 MODELS = Path(__file__).parent / "models"
 ANGLE = 1e-8   # rad: crank angles, geometry against symkin
 PLACE = 1e-9   # length scales: node positions, geometry against symkin
-
-
-def circle_points(p, r1, q, r2):
-    """The intersections of the circles (p, r1) and (q, r2) (law of cosines)."""
-    p, q = np.asarray(p, float), np.asarray(q, float)
-    d = float(np.linalg.norm(q - p))
-    a = (r1 * r1 - r2 * r2 + d * d) / (2 * d)
-    h = math.sqrt(r1 * r1 - a * a)
-    e = (q - p) / d
-    n = np.array([-e[1], e[0]])
-    return [p + a * e + h * n, p + a * e - h * n]
 
 
 def locked_rocker_configurations(mech):
