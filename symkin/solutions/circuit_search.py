@@ -15,6 +15,7 @@ import numpy as np
 
 from symkin.analysis.classification import analyze
 from symkin.errors import NotConvergedError, SymkinError
+from symkin.kinds import Kind
 from symkin.model.mechanism import Mechanism
 from symkin.paths.continuation import CurvePoint, point_at, tangent
 from symkin.paths.events import TestFunction, locate_sign_change
@@ -238,7 +239,7 @@ class CircuitSearch:
         path = self.paths[index - 1][0]
         for e_index, e in enumerate(path.singular_events()):
             a = e.analysis
-            if a is None or "IM" not in a.types or a.dof != self.mech.mobility_value + 1:
+            if a is None or Kind.IM not in a.types or a.dof != self.mech.mobility_value + 1:
                 continue
             k = self.vertex_at(self.curve.y_of(free_coordinates(self.mech, e.coordinates)))
             if k is not None:
@@ -292,7 +293,7 @@ class CircuitSearch:
                 return k
         x = self.curve.x_of(bp.y)
         analysis = analyze(self.mech.with_coordinates(x), tol=self.tol)
-        if analysis.dof != self.mech.mobility_value + 1 or "IM" not in analysis.types:
+        if analysis.dof != self.mech.mobility_value + 1 or Kind.IM not in analysis.types:
             return None
         halves = half_branches(self.curve, bp.y, radius=self.radius, rank=self.tol.rank)
         if halves is None:
@@ -315,7 +316,7 @@ class CircuitSearch:
         values = [v["input"] for v in self.vertices]
         for p, _, _ in self.paths:
             values += [self.in_value(e.coordinates) for e in p.singular_events()
-                       if e.analysis is not None and "DKP-input" in e.analysis.types]
+                       if e.analysis is not None and Kind.DKP_INPUT in e.analysis.types]
         return cluster([wrap(v, self.kind) for v in values], self.tol.same_configuration)
 
 

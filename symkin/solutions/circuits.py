@@ -200,10 +200,10 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
 
     # 1. critical points of the input (and of the output) from the square DKP systems; the LIM systems
     closure = closure_system(mech, tolerances)
-    systems = [Square(str(Kind.DKP_INPUT), Kind.DKP_INPUT, drive)]
+    systems = [_Square(str(Kind.DKP_INPUT), Kind.DKP_INPUT, drive)]
     if output is not None:
-        systems.append(Square(str(Kind.DKP_OUTPUT), Kind.DKP_OUTPUT, output))
-    systems += [Square(f"{Kind.LIM}:{c.parameter.target[0]}", Kind.LIM, c, c.parameter.target[0])
+        systems.append(_Square(str(Kind.DKP_OUTPUT), Kind.DKP_OUTPUT, output))
+    systems += [_Square(f"{Kind.LIM}:{c.parameter.target[0]}", Kind.LIM, c, c.parameter.target[0])
                 for c in lim_coordinates(mech, output)]
     roots: dict[str, tuple[list[dict], int, int, float]] = {}
     skipped: dict[str, tuple[int, int, float, str]] = {}
@@ -388,7 +388,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
 
 
 @dataclass(frozen=True)
-class Square:
+class _Square:
     """One square system of :func:`singularities`: its check's name, its kind, its coordinate and (LIM) its link."""
 
     name: str

@@ -12,7 +12,7 @@ from symkin.tolerances import Tolerances
 __all__ = ["compare"]
 
 
-def compare(mech, name, label, found, traced, paths, degree, seconds, scale, tol: Tolerances) -> CrossCheck:
+def compare(mech, kind, label, found, traced, paths, degree, seconds, scale, tol: Tolerances) -> CrossCheck:
     """Match a square system's real solutions with the traced configurations, one to one.
 
     Each solution is matched with the nearest traced configuration not matched yet when
@@ -21,8 +21,10 @@ def compare(mech, name, label, found, traced, paths, degree, seconds, scale, tol
     Parameters
     ----------
     mech : Mechanism
-    name, label : str
-        The check's name (``"DKP-input"``, ``"LIM:rocker"``...) and its coordinate's label.
+    kind : Kind
+        The check's kind (``DKP-input``, ``DKP-output``, ``LIM``).
+    label : str
+        Its coordinate's label.
     found : list of dict
         The square system's real solutions (configurations).
     traced : list of dict
@@ -54,5 +56,5 @@ def compare(mech, name, label, found, traced, paths, degree, seconds, scale, tol
         else:
             only_h.append(c)
     only_t = [c for k, c in enumerate(traced) if k not in used]
-    return CrossCheck(name, label, len(found), len(traced), matched, paths, degree, tuple(only_h), tuple(only_t),
+    return CrossCheck(kind, label, len(found), len(traced), matched, paths, degree, tuple(only_h), tuple(only_t),
                       seconds)

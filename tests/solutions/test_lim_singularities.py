@@ -104,7 +104,10 @@ def test_the_lim_system_cross_check(results, unit):
 def test_millimetres_and_metres_give_the_same_answer(results):
     """The same configurations (crank angle, types, locked links) and the same circuits (their crank
     angles), whichever circuit the search numbers first."""
-    a, b = (sorted(r.singularities, key=lambda s: (s.input, s.configuration["D"])) for r in (results["mm"], results["m"]))
+    def key(r):  # the crank angle, then (the dyad's two modes at one angle) where D is, in length scales
+        return lambda s: (round(s.input, 6), tuple(np.round(np.array(s.configuration["D"]) / r.mechanism.length_scale, 6)))
+
+    a, b = (sorted(r.singularities, key=key(r)) for r in (results["mm"], results["m"]))
     assert [(s.types, s.locked_links, s.dof) for s in a] == [(s.types, s.locked_links, s.dof) for s in b]
     assert np.allclose([s.input for s in a], [s.input for s in b], atol=1e-9)
     # the same partition into circuits: two configurations share a circuit in mm exactly when they do in m
@@ -142,3 +145,18 @@ def test_lim_links_are_the_rockers_other_than_input_and_output():
     mech = read_model(MODELS / "stephenson3_mm.toml")
     assert lim_links(mech) == ("crank", "rocker", "output")
     assert [c.label for c in lim_coordinates(mech)] == ["rotation:rocker"]
+
+
+@pytest.mark.slow
+def test_the_circuit_plot_marks_the_lim_configurations(results):
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    from symkin.plots.circuits import LIM_STYLE, plot_circuits
+
+    r = results["mm"]
+    ax = plot_circuits(r)
+    lim = [line for line in ax.lines if line.get_gid() == "singularity:LIM"]
+    assert len(lim) == 8 and all(line.get_marker() == LIM_STYLE["marker"] for line in lim)
+    got = sorted(float(line.get_xdata()[0]) for line in lim)
+    assert np.allclose(got, sorted(s.input for s in lim_of(r)), atol=1e-12)
+    assert "LIM (rocker locked)" in [t.get_text() for t in ax.get_legend().get_texts()]
