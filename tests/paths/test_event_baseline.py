@@ -6,6 +6,20 @@ The curves use the generated corrector in-process (``generated="vm"``: the same 
 compiled C, see ``tests/numeric/test_artefact_cache.py``) so that the test session, whose
 artefact cache is empty, compiles nothing.
 
+Two results changed on purpose when the three singular-point locators became one
+(:func:`symkin.curves.locate.locate_singular_point`: exact derivatives, deflation), listed in
+``REFINED`` with the old error bound; there every baseline event other than IM is still
+found at the same input (to 1e-10, its kind among the event's kinds), and every IM event lies
+within the bound of a baseline event:
+
+* the double butterfly's IM events are its tangent contacts T1, T2 with the LIM branch, where
+  the old locator (no deflation) stopped ~1e-5 off and reported T1 twice; they are now T1 and
+  T2 to rounding, checked against the elementary construction of ``test_vertex.py``;
+* the Bennett linkage's IM events are minima of its IM test that the curve's Jacobian does not
+  share (unconfirmed: no type); the old refinement (central-difference Hessian, a left null
+  vector of the redundant rows) moved them by up to 4e-4, now they stay where they were
+  located, and the one at the DKP-output event is the same configuration (one event).
+
 LIM events (a link that stops while the input moves) were added after the baseline: events of
 kind LIM are new and are left out of the comparison, and a baseline event may now also carry
 the LIM test among its ``kinds``.
@@ -15,12 +29,17 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import symkin.paths.trace
 from symkin.kinds import Kind
 
 from .data.make_event_baseline import cases, events_of
+from .test_vertex import contact
+
+#: sources whose IM events the one singular-point locator moved on purpose: the old error bound (input)
+REFINED = {"catalogue:bennett": 4e-4, "papers_examples/double_butterfly.toml": 3e-5}
 
 BASELINE = json.loads((Path(__file__).parent / "data" / "event_baseline.json").read_text())
 CASES = {source: mech for _, source, mech in cases()}
@@ -50,7 +69,33 @@ def test_events_match_the_baseline(source):
     assert got.get("error") == expected.get("error")
     assert got.get("stop_reason") == expected.get("stop_reason")
     before, after = _comparable(expected.get("events", [])), _comparable(got.get("events", []))
+    if source in REFINED:
+        _check_refined(before, after, REFINED[source])
+        return
     assert [(e["kind"], e["kinds"], e["types"], e["locked_links"]) for e in after] == \
         [(e["kind"], e["kinds"], e["types"], e["locked_links"]) for e in before]
     for a, b in zip(after, before):
         assert a["input"] == pytest.approx(b["input"], abs=1e-10)
+
+
+def _check_refined(before: list[dict], after: list[dict], bound: float) -> None:
+    for b in before:
+        if b["kind"] != Kind.IM:
+            assert any(abs(a["input"] - b["input"]) <= 1e-10 and b["kind"] in a["kinds"] and a["types"] == b["types"]
+                       for a in after), b
+    for a in after:
+        if a["kind"] == Kind.IM:
+            assert any(abs(a["input"] - b["input"]) <= bound for b in before), a
+
+
+def test_double_butterfly_im_events_are_its_tangent_contacts():
+    source = "papers_examples/double_butterfly.toml"
+    mech = CASES[source]
+    from symkin.paths.trace import trace
+
+    path = trace(mech, stop=BASELINE[source]["stop"], max_arclength=60.0)
+    ims = [e for e in path.events if e.kind == Kind.IM]
+    exact = [np.array([contact(mech, sign)[n] for n in mech.node_names]) for sign in (1.0, -1.0)]
+    assert len(ims) == 2
+    for e in ims:
+        assert min(float(np.max(np.abs(e.coordinates - x))) for x in exact) <= 1e-10 * mech.length_scale
