@@ -85,8 +85,14 @@ class EventType:
         return self.signed and np.sign(fa) * np.sign(fb) < 0 and max(abs(fa), abs(fb)) > FLAT
 
     def brackets_minimum(self, fa: float, fb: float, fc: float) -> bool:
-        """Whether values at three consecutive points bracket a local minimum worth locating."""
-        return not self.signed and fb < self.detect and fb <= fa and fb <= fc
+        """Whether values at three consecutive points bracket a local minimum worth locating.
+
+        Not where the test is at most ``threshold`` at all three points: the curve runs along
+        such configurations (e.g. a branch on which a link stays locked), the minima of
+        rounding noise are no isolated events.
+        """
+        return (not self.signed and fb < self.detect and fb <= fa and fb <= fc
+                and max(fa, fc) > self.threshold)
 
     def locate(self, problem: CurveProblem, a: CurvePoint, b: CurvePoint, c: CurvePoint | None = None,
                rank: float = DEFAULT.rank) -> tuple[Kind | None, CurveEvent] | None:

@@ -267,6 +267,70 @@ class _Value:
         return self.point(y)[self.key]
 
 
+@dataclass(frozen=True)
+class _LinkMotion:
+    """The LIM test of one link at a point of the curve, along its tangent (:mod:`symkin.analysis.indicators`).
+
+    ``link_rate`` of the free node ``node`` about the fixed node ``pivot`` (planar) or the
+    axis ``pivot → axis_to`` (spatial) when the link has one; else ``link_speed`` of its free
+    nodes ``nodes``.  Positions in units of the length scale, velocities ``dy/ds = t``.
+    """
+
+    curve: MechanismCurve
+    nodes: tuple[int, ...]
+    pivot: int | None = None
+    axis_to: int | None = None
+
+    def __call__(self, y, t) -> float:
+        c = self.curve
+        shape = c.x0.shape
+        x = c.x_of(y) / c.scale
+        flat = np.zeros(x.size)
+        flat[c.free] = t
+        v = flat.reshape(shape)
+        if self.pivot is None:
+            return float(indicators.link_speed(v[list(self.nodes)]))
+        axis = None
+        if self.axis_to is not None:
+            axis = x[self.axis_to] - x[self.pivot]
+            axis = axis / np.linalg.norm(axis)
+        node = self.nodes[0]
+        return float(indicators.link_rate(x[node] - x[self.pivot], v[node], axis))
+
+
+def _link_motions(curve: MechanismCurve) -> dict[str, tuple[_LinkMotion, bool]]:
+    """Per moving link of a 1-DOF mechanism: its LIM test and whether it is signed (a fixed pivot or axis)."""
+    mech = curve.mech
+    index = mech.node_index()
+    fixed = set(mech.fixed)
+    x0 = curve.x0
+    out = {}
+    for link in mech.moving_links:
+        nodes = mech.link_nodes(link)
+        pins = [index[n] for n in nodes if n in fixed]
+        free = [index[n] for n in nodes if n not in fixed]
+        if not free:
+            continue
+        pivot = axis_to = None
+        if mech.dim == 2 and len(pins) == 1:
+            pivot = pins[0]
+        elif mech.dim == 3 and len(pins) >= 2 and np.linalg.norm(x0[pins[1]] - x0[pins[0]]) > 0:
+            pivot, axis_to = pins[0], pins[1]
+        elif pins:
+            continue  # a planar link held by two pins, or a spherical pivot: no turning test
+        if pivot is None:
+            out[link] = (_LinkMotion(curve, tuple(free)), False)
+            continue
+        a = x0[pins[1]] - x0[pivot] if axis_to is not None else None
+        a = None if a is None else a / np.linalg.norm(a)
+
+        def reach(k, a=a):
+            r = x0[k] - x0[pivot]
+            return float(np.linalg.norm(r if a is None else r - (r @ a) * a))
+        out[link] = (_LinkMotion(curve, (max(free, key=reach),), pivot, axis_to), True)
+    return out
+
+
 def event_types(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = DEFAULT) -> list[EventType]:
     """Signed DKP / bifurcation determinants and the IM minimum test (see module docstring).
 
@@ -284,21 +348,25 @@ def event_types(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = 
     jh = curve.jacobian(y0)
     sel_h = list(independent_rows(jh, tolerances.rank, jh.shape[1] - 1))
     accept = tolerances.event_threshold
-    im = SingularEvent("IM", _Value(point, "im_sigma"), signed=False, threshold=accept, kind=Kind.IM)
+    im = SingularEvent(str(Kind.IM), _Value(point, "im_sigma"), signed=False, threshold=accept, kind=Kind.IM)
     near = {"near": im, "near_threshold": tolerances.near_branch}
     tests = []
     if pin.shape[0] == f and f > 0:
-        tests.append(EventType("DKP-input", _Value(point, "dkp_input"), kind=Kind.DKP_INPUT, **near))
+        tests.append(EventType(str(Kind.DKP_INPUT), _Value(point, "dkp_input"), kind=Kind.DKP_INPUT, **near))
     if pout.shape[0] == f and f > 0:
-        tests.append(EventType("DKP-output", _Value(point, "dkp_output"), kind=Kind.DKP_OUTPUT, **near))
+        tests.append(EventType(str(Kind.DKP_OUTPUT), _Value(point, "dkp_output"), kind=Kind.DKP_OUTPUT, **near))
     elif pout.shape[0] > 0:
-        tests.append(EventType("DKP-output", _Value(point, "sigma_output"), signed=False, threshold=accept,
+        tests.append(EventType(str(Kind.DKP_OUTPUT), _Value(point, "sigma_output"), signed=False, threshold=accept,
                                kind=Kind.DKP_OUTPUT, **near))
 
     def bif(y, t):
         return float(np.linalg.det(np.vstack([curve.jacobian(y)[sel_h], t[None, :]])))
-    tests.append(SingularEvent("bifurcation", bif, kind=Kind.IM, any_root=True))
+    tests.append(SingularEvent(str(Kind.BRANCH_POINT), bif, kind=Kind.IM, any_root=True))
     tests.append(im)
+    if f == 1:
+        for link, (motion, signed) in _link_motions(curve).items():
+            tests.append(EventType(f"{Kind.LIM}:{link}", motion, signed=signed, threshold=accept, kind=Kind.LIM,
+                                   **near))
     return tests
 
 
@@ -307,10 +375,10 @@ def _indicators(tests: list[EventType], y, t) -> dict:
     point = next(tf.f.point for tf in tests if isinstance(tf.f, _Value))
     vals = point(y)
     out = {"im_indicator": vals["im_indicator"], "im_sigma": vals["im_sigma"],
-           "bifurcation": next(tf.f(y, t) for tf in tests if tf.name == "bifurcation")}
-    for k, key in (("DKP-input", "dkp_input"), ("DKP-output", "dkp_output")):
+           str(Kind.BRANCH_POINT): next(tf.f(y, t) for tf in tests if tf.name == Kind.BRANCH_POINT)}
+    for k, key in ((Kind.DKP_INPUT, "dkp_input"), (Kind.DKP_OUTPUT, "dkp_output")):
         if any(tf.name == k for tf in tests):
-            out[k] = vals[key]
+            out[str(k)] = vals[key]
     return out
 
 
@@ -422,12 +490,12 @@ def _move_to(counted, curve, y0, target, settings, unit: str = "rad") -> np.ndar
     return curve.y_of(path.points[-1].coordinates.ravel()[curve.free])
 
 
-_TEST_KINDS = {"bifurcation": Kind.IM, "IM": Kind.IM}
+_TEST_KINDS = {Kind.BRANCH_POINT: Kind.IM, Kind.IM: Kind.IM}
 
 
 def _kind(test_name: str) -> Kind:
-    """The kind of event a test locates (``bifurcation`` and ``IM`` both locate IM events)."""
-    return _TEST_KINDS.get(test_name) or Kind(test_name)
+    """The kind of event a test locates (``bifurcation`` and ``IM`` both locate IM events, ``LIM:<link>`` LIM events)."""
+    return _TEST_KINDS.get(test_name) or Kind(test_name.split(":", 1)[0])
 
 
 def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, settings, progress,
