@@ -39,7 +39,7 @@ from symkin.curves.locate import polish
 from symkin.curves.stepper import CurvePoint, Settings, correct, point_at, tangent
 from symkin.curves.tracer import TracedPoint, trace_curve
 from symkin.errors import SymkinError
-from symkin.kinds import Kind
+from symkin.kinds import Kind, describe
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.paths.branching import Bifurcation, branch_directions
@@ -97,6 +97,20 @@ class PathEvent:
         if self.kind == Kind.END:
             return (Kind.END,)
         return tuple(dict.fromkeys((self.kind,) + tuple(_kind(t) for t in self.tests)))
+
+    @property
+    def reason(self) -> str | None:
+        """Why a LIM event's configuration is singular, in words (None for other kinds).
+
+        >>> from symkin.analysis.classification import analyze
+        >>> from symkin.model.catalogue import get
+        >>> a = analyze(get("fourbar_dead_centre"))
+        >>> PathEvent(Kind.LIM, 0.0, 0.0, None, a, 0.0, 0).reason
+        'link impossible motion (LIM): rocker cannot move'
+        """
+        if self.kind != Kind.LIM or self.analysis is None:
+            return None
+        return f"{describe(Kind.LIM)}: {', '.join(self.analysis.locked_links)} cannot move"
 
     @property
     def confirmed(self) -> bool | None:
