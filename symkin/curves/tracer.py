@@ -90,15 +90,15 @@ class TracedCurve:
 class _Merged:
     """Located events merged by configuration (mutable while tracing; frozen into :class:`LocatedEvent`)."""
 
-    def __init__(self, distance: float, priority: Sequence):
-        self.distance, self.priority, self.items = distance, tuple(priority), []
+    def __init__(self, distance: float, priority: Sequence, window: float):
+        self.distance, self.priority, self.window, self.items = distance, tuple(priority), window, []
 
     def _rank(self, kind) -> int:
         return self.priority.index(kind) if kind in self.priority else len(self.priority)
 
     def add(self, kind, ev: CurveEvent, y: np.ndarray, p: float) -> None:
         for item in self.items:
-            if np.linalg.norm(item["y"] - y) < self.distance:
+            if np.linalg.norm(item["y"] - y) < self.distance and abs(item["s"] - ev.s) <= self.window:
                 item["tests"].append(ev.name)
                 if self._rank(kind) < self._rank(item["kind"]):
                     item.update(kind=kind, y=y, t=ev.t, p=p, s=ev.s)
@@ -139,13 +139,15 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
     priority : sequence of Kind
         Kinds in merging order: a merged event takes the first kind of its tests.
     tolerances : Tolerances
-        ``same_configuration`` merges events, ``closure`` and ``rank`` polish them.
+        ``same_configuration`` merges events (located on the same passage: at most
+        ``settings.max_step`` apart in arclength; a curve that comes back to a configuration
+        meets it again), ``closure`` and ``rank`` polish them.
 
     A :class:`~symkin.curves.stepper.SteppingError` or a corrector failure ends the trace
     with reason ``"stuck"`` and the error's message.
     """
     param = parameter if parameter is not None else (lambda y, ref: 0.0)
-    merged = _Merged(tolerances.same_configuration, priority)
+    merged = _Merged(tolerances.same_configuration, priority, settings.max_step)
     points: list[TracedPoint] = []
     history: list[tuple[CurvePoint, dict, float]] = []
     located = [r for r in stops if isinstance(r, ParameterReached)]
