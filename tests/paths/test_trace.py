@@ -190,7 +190,8 @@ def test_peaucellier_flattened_pose_reported_once_on_the_closure_with_its_classi
             moved |= {node for node in "ABP" if float(np.linalg.norm(v[node])) > 1e-9}
         assert moved == {"A", "B", "P"}
         # located by the turning point of the crank and by the IM test: one event carrying both
-        assert set(e.tests) == {"DKP-input", "IM"} and e.kinds == ("IM", "DKP-input")
+        # (and by the LIM test of the crank, which stops there)
+        assert set(e.tests) == {"DKP-input", "IM", "LIM:crank"} and e.kinds == ("IM", "DKP-input", "LIM")
     assert sorted(round(math.degrees(e.absolute), 9) for e in events) == \
         sorted(round(math.degrees(p["crank"]), 9) for p in poses)
 
