@@ -61,7 +61,8 @@ class EventType:
     change is an event (a determinant that changes sign through a branch point, where the
     located value need not be small).  ``near``: a non-negative event type (the IM test)
     whose value below ``near_threshold`` at a located root says the root sits at a branch
-    point; the event is then relocated by ``near`` and reported as ``near``'s kind.
+    point; the event is then relocated by ``near`` and reported as ``near``'s kind.  ``flat``:
+    a signed test at most this at both ends of a step is identically zero there (no isolated root).
     """
 
     __test__ = False  # not a pytest test class
@@ -75,6 +76,7 @@ class EventType:
     any_root: bool = False
     near: "EventType | None" = field(default=None, repr=False)
     near_threshold: float = DEFAULT.near_branch
+    flat: float = FLAT
 
     def value(self, y: np.ndarray, t: np.ndarray) -> float:
         """The test's value at ``y`` (tangent ``t``)."""
@@ -82,7 +84,7 @@ class EventType:
 
     def brackets_root(self, fa: float, fb: float) -> bool:
         """Whether values ``fa`` and ``fb`` at two consecutive points bracket an isolated root."""
-        return self.signed and np.sign(fa) * np.sign(fb) < 0 and max(abs(fa), abs(fb)) > FLAT
+        return self.signed and np.sign(fa) * np.sign(fb) < 0 and max(abs(fa), abs(fb)) > self.flat
 
     def brackets_minimum(self, fa: float, fb: float, fc: float) -> bool:
         """Whether values at three consecutive points bracket a local minimum worth locating.

@@ -379,8 +379,10 @@ def event_types(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = 
     tests.append(im)
     if f == 1:
         for link, (motion, signed) in _link_motions(curve).items():
+            # flat below the event threshold: on a branch along which the link stays locked (the double
+            # butterfly's LIM branch) its rate is rounding noise, not a sequence of stops
             tests.append(EventType(f"{Kind.LIM}:{link}", motion, signed=signed, threshold=accept, kind=Kind.LIM,
-                                   **near))
+                                   flat=accept, **near))
     return tests
 
 
