@@ -64,7 +64,19 @@ class CurveProblem(Protocol):
 
 @dataclass(frozen=True)
 class Settings:
-    """Continuation settings (dimensionless units of ``y``)."""
+    """Continuation settings (dimensionless units of ``y``: lengths over the model's length scale).
+
+    ``step`` the first step (1/20 of the length scale: a crank of unit length turns ~3° per
+    step); ``min_step`` the step below which the curve cannot be followed (``SteppingError``:
+    ~1e-9 is where a predictor no longer differs from the corrected point by more than the
+    corrector's rounding); ``max_step`` the longest step (1/5: event brackets stay short
+    enough for one sign change of each test); ``tol`` the corrector's residual
+    (``Tolerances.newton``); ``max_corrector_iterations`` before a step is halved (a good
+    predictor converges in 2–4); ``max_corrector_distance`` the largest move of the
+    corrector relative to ``h`` (beyond it the corrector may have jumped to another
+    branch); ``max_turn`` the largest tangent turn per step (0.35 rad, 20°: the same
+    guard); ``max_steps`` accepted steps at most.
+    """
 
     step: float = 0.05
     min_step: float = 1e-9

@@ -26,7 +26,7 @@ previous point's value (unwrapping angles).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -51,16 +51,31 @@ class TracedPoint:
 
 @dataclass(frozen=True)
 class LocatedEvent:
-    """A located (and merged) event: its kind, where, the parameter there, every test that located it."""
+    """A located (and merged) event: its kind, where, the parameter there, every test that located it.
+
+    ``where`` is the located event of the first test of ``kind`` (its ``y`` polished onto the
+    curve); ``value`` is the value of the first test that located the configuration and
+    ``evaluations`` the test evaluations of all of them.
+    """
 
     kind: Kind | str | None
-    y: np.ndarray = field(repr=False)
-    t: np.ndarray = field(repr=False)
-    s: float
+    where: CurveEvent = field(repr=False)
     p: float
     value: float
     evaluations: int
     tests: tuple[str, ...]
+
+    @property
+    def y(self) -> np.ndarray:
+        return self.where.y
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.where.t
+
+    @property
+    def s(self) -> float:
+        return self.where.s
 
 
 @dataclass(frozen=True)
@@ -96,20 +111,23 @@ class _Merged:
     def _rank(self, kind) -> int:
         return self.priority.index(kind) if kind in self.priority else len(self.priority)
 
-    def add(self, kind, ev: CurveEvent, y: np.ndarray, p: float) -> None:
+    def add(self, kind, ev: CurveEvent, p: float) -> None:
+        """Record ``ev`` (``y`` polished), or merge it into the event of the same configuration and passage."""
         for item in self.items:
-            if np.linalg.norm(item["y"] - y) < self.distance and abs(item["s"] - ev.s) <= self.window:
+            where = item["where"]
+            if np.linalg.norm(where.y - ev.y) < self.distance and abs(where.s - ev.s) <= self.window:
                 item["tests"].append(ev.name)
                 if self._rank(kind) < self._rank(item["kind"]):
-                    item.update(kind=kind, y=y, t=ev.t, p=p, s=ev.s)
+                    item.update(kind=kind, where=ev, p=p)
                 item["evaluations"] += ev.evaluations
                 return
-        self.items.append({"kind": kind, "y": y, "t": ev.t, "s": ev.s, "value": ev.value, "p": p,
-                           "evaluations": ev.evaluations, "tests": [ev.name]})
+        self.items.append({"kind": kind, "where": ev, "p": p, "value": ev.value, "evaluations": ev.evaluations,
+                           "tests": [ev.name]})
 
     def events(self) -> tuple[LocatedEvent, ...]:
-        return tuple(LocatedEvent(it["kind"], it["y"], it["t"], it["s"], it["p"], it["value"], it["evaluations"],
-                                  tuple(dict.fromkeys(it["tests"]))) for it in sorted(self.items, key=lambda i: i["s"]))
+        return tuple(LocatedEvent(it["kind"], it["where"], it["p"], it["value"], it["evaluations"],
+                                  tuple(dict.fromkeys(it["tests"])))
+                     for it in sorted(self.items, key=lambda i: i["where"].s))
 
 
 def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events: Sequence[EventType] = (),
@@ -161,8 +179,8 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
         if result is None:
             return
         kind, ev = result
-        y = polish(problem, ev.y, tolerances.closure, tolerances.rank)
-        merged.add(kind, ev, y, param(y, reference))
+        ev = replace(ev, y=polish(problem, ev.y, tolerances.closure, tolerances.rank))
+        merged.add(kind, ev, param(ev.y, reference))
 
     def keep(cp: CurvePoint, vals: dict, p: float) -> None:
         tp = TracedPoint(cp, p)
