@@ -198,7 +198,7 @@ class Closed(StopRule):
     t0: np.ndarray = field(repr=False)
     min_arclength: float = 0.0
     radius: float = 0.0
-    reason: str = "closed"
+    reason: str = str(Kind.CLOSED)
     message: str = "the path closed on its start (a full loop)"
 
     def crossed(self, previous: CurvePoint, point: CurvePoint) -> bool:

@@ -554,7 +554,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
     traced = trace_curve(counted, y0, t0, events=tests, stops=stops, settings=settings, parameter=input_of,
                          p0=start, guard=guard, on_point=on_point, priority=KIND_PRIORITY, tolerances=tolerances)
     reason, message = traced.stop.reason, traced.stop.message
-    if reason == "closed":
+    if reason == Kind.CLOSED:
         last = traced.stop.point
         turns = round((last.p - start) / (2 * math.pi)) if kind == "angle" else 0
         points.append(_point(curve, y0, start + 2 * math.pi * turns, last.point.s, tests, t0))
@@ -575,7 +575,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
             events.append(PathEvent(Kind.END, stop, ev.s, curve.x_of(y_end), None, ev.value, ev.evaluations,
                                     curve.drive.absolute(mech, curve.x_of(y_end)), None, y_end, ev.t,
                                     (str(Kind.END),)))
-    turn = _turning(points, events, start, stop, kind) if reason == "closed" else None
+    turn = _turning(points, events, start, stop, kind) if reason == Kind.CLOSED else None
     if turn is not None:
         reason = "unreachable"
         absolute = "" if turn.absolute is None else f" (absolute {_format_value(turn.absolute, kind, unit)})"
