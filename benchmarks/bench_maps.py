@@ -1,7 +1,8 @@
 """Benchmark of singularity maps (issue 8, part 4b), run on demand — not a test.
 
     python benchmarks/bench_maps.py [--n 501] [--n-rrr 201] [--baseline 2000] [--n-dask 1001]
-                                    [--n-memory 2001] [--skip-dask] [--skip-memory]
+                                    [--n-memory 2001] [--refine-n 161 ...] [--only-refine]
+                                    [--skip-dask] [--skip-memory]
 
 It measures, in one run:
 
@@ -20,6 +21,11 @@ It measures, in one run:
 2. refinement cost: :func:`symkin.workspace.loci.refine` on the five-bar and 3-RRR grids of
    (1) at 201 × 201: located points, residual-and-Jacobian evaluations per located point and
    per traced curve point (``RefineStats``).
+2b. refinement against the grid (``--refine-n``, default 161): ``workspace_map(..., refine=True)``
+   of the catalogue five-bar and of the 3-RPR at constant orientation (``tests/workspace/models/rpr_3.toml``,
+   the platform rotation held; O over the boxes of :data:`RPR_BOXES`); the time inside
+   :func:`symkin.workspace.loci.refine` ("refine s") against the rest of the call ("grid s"), in the
+   same call; ratio = refine s ÷ grid s (target ≤ 2, and the 3-RPR 161 × 161 map under 30 s).
 3. Dask: the five-bar at ``--n-dask``² (≥ 10⁶) points, tiles of ``parallel.TILE``, in one
    process (one continuation, ``tile=0``; the default: the same tiles, batched together) and on
    a ``LocalCluster`` of 2 worker processes (cluster start-up timed apart); the grid arrays of
@@ -52,7 +58,8 @@ import symkin  # noqa: E402
 from bench_analyze import baseline_function  # noqa: E402
 from bench_paths import UserClosure  # noqa: E402
 from symkin.model.catalogue import get  # noqa: E402
-from symkin.workspace import parallel  # noqa: E402
+from symkin import read_model  # noqa: E402
+from symkin.workspace import loci, parallel  # noqa: E402
 from symkin.workspace.grid import continue_mode  # noqa: E402
 from symkin.workspace.loci import GridData, refine  # noqa: E402
 from symkin.workspace.maps import GRID_ARRAYS, workspace_map  # noqa: E402
@@ -221,6 +228,54 @@ def section_refine():
               f"({st.trace_evaluations / max(st.traced_points, 1):.1f} per point); {dt:.2f} s")
 
 
+#: 3-RPR boxes of O (the platform rotation held): the map tests' box (tests/workspace/test_map_truth.py); ±1.5
+#: around the model position, whose corner (1, 0.5) puts C1 on A1 (leg 1 of zero length: a closed type-1
+#: locus there whose meetings with the conic seed many curves); a wide box over the base with IM-indicator minima
+RPR_BOXES = {"tests' box": ((1.5, 4.5), (0.75, 3.25)), "±1.5": ((1.0, 4.0), (0.5, 3.5)),
+             "wide": ((-1.0, 6.0), (-1.0, 5.0))}
+
+
+def rpr_case(box="tests' box"):
+    mech = read_model(HERE.parent / "tests" / "workspace" / "models" / "rpr_3.toml")
+    (x0, x1), (y0, y1) = RPR_BOXES[box]
+    return mech, dict(x=f"velocity:O.x={x0}:{x1}", y=f"velocity:O.y={y0}:{y1}", hold=("rotation:platform",))
+
+
+def timed_map(mech, kw, n):
+    """``workspace_map(refine=True)`` with the time spent in ``loci.refine`` apart: (grid s, refine s, map)."""
+    spent = [0.0]
+    inner = loci.refine
+
+    def timed(*args, **kwargs):
+        t0 = time.perf_counter()
+        try:
+            return inner(*args, **kwargs)
+        finally:
+            spent[0] += time.perf_counter() - t0
+
+    workspace_map(mech, n=5, refine=False, **kw)  # compile / load the artefacts once
+    loci.refine = timed
+    try:
+        t0 = time.perf_counter()
+        m = workspace_map(mech, n=n, refine=True, **kw)
+        total = time.perf_counter() - t0
+    finally:
+        loci.refine = inner
+    return total - spent[0], spent[0], m
+
+
+def section_refine_ratio(sizes, boxes=tuple(RPR_BOXES)):
+    print("\n2b. refinement against the grid (workspace_map(refine=True), one process)")
+    print("   | mechanism | n | grid s | refine s | ratio | curves | points |")
+    print("   |---|---:|---:|---:|---:|---:|---:|")
+    cases = [("five-bar", (get("five_bar"), FIVE))] + [(f"3-RPR const. orientation, {b}", rpr_case(b)) for b in boxes]
+    for name, (mech, kw) in cases:
+        for n in sizes:
+            grid_s, refine_s, m = timed_map(mech, kw, n)
+            print(f"   | {name} | {n} | {grid_s:.2f} | {refine_s:.2f} | {refine_s / grid_s:.2f} | "
+                  f"{len(m.curves)} | {len(m.points)} |", flush=True)
+
+
 def section_dask(n):
     print(f"\n3. Dask: five-bar {n}x{n} = {n * n:,} points, tiles of {parallel.TILE}, no refinement")
     mech = get("five_bar")
@@ -286,13 +341,20 @@ def main(argv=None) -> int:
     p.add_argument("--baseline", type=int, default=2000)
     p.add_argument("--n-dask", type=int, default=1001)
     p.add_argument("--n-memory", type=int, default=2001)
+    p.add_argument("--refine-n", type=int, nargs="+", default=[161])
+    p.add_argument("--rpr-boxes", nargs="+", default=list(RPR_BOXES), choices=list(RPR_BOXES))
+    p.add_argument("--only-refine", action="store_true", help="section 2b only")
     p.add_argument("--skip-dask", action="store_true")
     p.add_argument("--skip-memory", action="store_true")
     args = p.parse_args(argv)
     print(f"symkin {getattr(symkin, '__version__', '?')}, python {sys.version.split()[0]}, "
           f"{os.cpu_count()} CPUs; uptime: {subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()}")
+    if args.only_refine:
+        section_refine_ratio(args.refine_n, args.rpr_boxes)
+        return 0
     section_rates(args)
     section_refine()
+    section_refine_ratio(args.refine_n, args.rpr_boxes)
     if not args.skip_dask:
         try:
             import distributed  # noqa: F401

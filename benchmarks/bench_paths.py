@@ -37,7 +37,7 @@ import numpy as np
 from scipy.optimize import root
 
 import symkin
-from symkin.paths.continuation import Settings, SteppingError, continue_curve, newton, tangent
+from symkin.curves.stepper import Settings, SteppingError, continue_curve, correct as newton, tangent
 from symkin.paths.trace import trace
 
 ROOT = FilePath(__file__).resolve().parents[1]

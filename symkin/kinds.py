@@ -13,6 +13,8 @@ and code compares with members instead of spelling the strings again.
 
 >>> Kind.DKP_INPUT == "DKP-input", str(Kind.LIM), Kind("IM") is Kind.IM
 (True, 'LIM', True)
+>>> (Kind.DKP_OUTPUT, Kind.LIM)  # a result's types print as their strings
+('DKP-output', 'LIM')
 >>> [str(k) for k in TYPES]
 ['IM', 'DKP-input', 'DKP-output', 'LIM', 'constraint']
 >>> describe(Kind.LIM)
@@ -42,6 +44,10 @@ class Kind(StrEnum):
     CLOSED = "closed"              # a curve closed on its start
     BOX = "box"                    # a curve left the map's box
     END = "end"                    # a path's input reached its target
+
+    def __repr__(self) -> str:
+        # printed as the plain string it stands for: ``print(result.types)`` shows ('IM', 'LIM')
+        return repr(self.value)
 
 
 TYPES: tuple[Kind, ...] = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM, Kind.CONSTRAINT)

@@ -22,7 +22,10 @@ parameter rows scaled to unit norm (paper §IV):
   signed and dimensionless (``J_S`` the ``nf − F`` independent constraint rows chosen by
   :func:`symkin.numeric.linalg.independent_rows`); otherwise the product of the
   ``min(k, F)`` singular values of ``P̂ V`` (:func:`dkp_value`).  Both vanish exactly at
-  DKP configurations and are defined only where ``L = F``.
+  DKP configurations and are defined only where ``L = F``;
+* **LIM test along a motion** — a link's signed angular rate about its fixed pivot or axis
+  (:func:`link_rate`) or, for a link without one, the speed of its free nodes
+  (:func:`link_speed`): zero where the link stops while the mechanism moves (§IV-B-3).
 """
 from __future__ import annotations
 
@@ -36,7 +39,7 @@ from symkin.tolerances import Tolerances
 
 __all__ = ["unit_rows", "padded_singular_values", "im_indicator", "rank_threshold", "instantaneous_dof",
            "is_im", "restricted_singular_values", "is_dkp", "dkp_value", "basis_orientation", "basis_volume",
-           "basis_rows"]
+           "basis_rows", "link_rate", "link_speed"]
 
 
 def unit_rows(p: np.ndarray, free: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -254,3 +257,43 @@ def basis_rows(jf: np.ndarray, mobility: int, tol: Tolerances, rank: int | None 
             return tuple(nonzero.tolist())
     rows = independent_rows(jf, tol.rank, count)
     return rows if len(rows) == count else None
+
+
+def link_rate(r: np.ndarray, v: np.ndarray, axis: np.ndarray | None = None) -> np.ndarray:
+    """Signed rate at which a link turns about a fixed point (planar) or a fixed axis (spatial): the LIM test.
+
+    ``r`` (..., dim) is a free node of the link relative to its fixed node (a point of the
+    fixed ``axis``, a unit vector, in space), ``v`` (..., dim) that node's velocity along
+    the motion: the link's angular rate is ``(r × v) / |r|²`` (planar) or
+    ``((r⊥ × v) · a) / |r⊥|²`` with ``r⊥ = r − (r·a) a`` (spatial).  With positions in units
+    of the length scale and velocities per unit (dimensionless) arclength it is
+    dimensionless: a model and the same model scaled give the same value.  It changes sign
+    where the link stops and turns back (§IV-B-3: a link impossible motion, LIM, when the
+    mechanism moves on), so a path locates it as a sign change; use the node farthest from
+    the pivot (largest ``|r|``, or ``|r⊥|``) for the best-conditioned value.
+
+    >>> float(link_rate(np.array([2.0, 0.0]), np.array([0.0, 1.0])))
+    0.5
+    >>> float(link_rate(np.array([1.0, 0.0, 5.0]), np.array([0.0, -3.0, 0.0]), np.array([0.0, 0.0, 1.0])))
+    -3.0
+    """
+    r, v = np.asarray(r, float), np.asarray(v, float)
+    if axis is None:
+        return (r[..., 0] * v[..., 1] - r[..., 1] * v[..., 0]) / (r * r).sum(axis=-1)
+    a = np.asarray(axis, float)
+    perp = r - (r @ a)[..., None] * a
+    return (np.cross(perp, v) @ a) / (perp * perp).sum(axis=-1)
+
+
+def link_speed(v: np.ndarray) -> np.ndarray:
+    """Speed of a link along the motion: the norm of its free nodes' velocities ``v`` (..., k, dim).
+
+    The LIM test of a link with no fixed pivot or axis (a coupler, a link on a spherical
+    joint): non-negative, zero where the link stops, so a path locates it as a minimum below
+    the event threshold.  Dimensionless as :func:`link_rate`.
+
+    >>> float(link_speed(np.array([[3.0, 0.0], [0.0, 4.0]])))
+    5.0
+    """
+    v = np.asarray(v, float)
+    return np.sqrt((v * v).sum(axis=(-2, -1)))

@@ -72,6 +72,8 @@ def _text(path, unit: str) -> str:
         absolute = f", absolute {e.absolute * conv:.10g} {u}" if e.absolute is not None else ""
         lines.append(f"{k}. {e.kind} at {path.drive} = {e.input * conv:.10g} {u}{absolute} "
                      f"(found by {', '.join(e.tests)})")
+        if e.reason:
+            lines.append(f"   {e.reason}")
         if e.confirmed is False:
             lines.append("   not confirmed: at the located configuration the classifier does not find this "
                          "singularity at its tolerance (see the types below)")

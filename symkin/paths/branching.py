@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from symkin.paths.continuation import CurveProblem
+from symkin.curves.stepper import CurveProblem
 from symkin.tolerances import DEFAULT
 
 __all__ = ["Bifurcation", "branch_directions", "second_derivative"]
@@ -137,39 +137,3 @@ def _common_directions(forms: np.ndarray, tol: float) -> list[np.ndarray]:
             if res.fun < tol * tol:
                 found.append(np.array([math.cos(res.x), math.sin(res.x)]))
     return found
-
-
-def refine_singular_point(problem: CurveProblem, y0: np.ndarray, tol: float = 1e-13,
-                          max_iterations: int = 30) -> tuple[np.ndarray, float]:
-    """The nearby point where the curve's Jacobian loses rank (an IM / branch point).
-
-    Gauss–Newton on the extended system ``H(y) = 0``, ``J(y)ᵀ ψ = 0``, ``ψ·ψ₀ = 1`` in the
-    unknowns ``(y, ψ)``, with ``ψ₀`` the left singular vector of the smallest singular
-    value at ``y0``.  The system is overdetermined by one (a branch point is not generic
-    on a curve) and consistent at the solution, so Gauss–Newton converges fast.  The
-    Hessian term ``∂(Jᵀψ)/∂y`` is a central difference of the Jacobian.
-    Returns ``(y, smallest singular value of J at y)``.
-    """
-    y = np.array(y0, float)
-    u, s, _ = np.linalg.svd(problem.jacobian(y), full_matrices=True)
-    psi0 = u[:, min(len(s), u.shape[1]) - 1] if len(s) >= u.shape[1] else u[:, -1]
-    psi = psi0.copy()
-    n = y.size
-    eps = 1e-6
-    for _ in range(max_iterations):
-        h, j = problem.residual(y), problem.jacobian(y)
-        r = np.concatenate([h, j.T @ psi, [psi @ psi0 - 1.0]])
-        hess = np.empty((n, n))
-        for k in range(n):
-            e = np.zeros(n)
-            e[k] = eps
-            hess[:, k] = (problem.jacobian(y + e).T @ psi - problem.jacobian(y - e).T @ psi) / (2 * eps)
-        top = np.hstack([j, np.zeros((j.shape[0], psi.size))])
-        mid = np.hstack([hess, j.T])
-        bot = np.concatenate([np.zeros(n), psi0])[None, :]
-        step = np.linalg.lstsq(np.vstack([top, mid, bot]), -r, rcond=None)[0]
-        y, psi = y + step[:n], psi + step[n:]
-        if np.linalg.norm(step) <= tol * max(1.0, np.linalg.norm(y)):
-            break
-    smin = float(np.linalg.svd(problem.jacobian(y), compute_uv=False)[-1])
-    return y, smin

@@ -14,14 +14,18 @@ import math
 
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.paths.continuation import newton
+from symkin.curves.stepper import correct
 from symkin.numeric.coordinates import LinearInput, input_coordinates, parse_input_label
 from symkin.paths.system import MechanismCurve
+from symkin.tolerances import DEFAULT
 
 __all__ = ["solve_position"]
 
+#: Newton iterations of the position problem without continuation (a start far from the solution)
+POSITION_ITERATIONS = 50
 
-def solve_position(mech: Mechanism, values: dict[str, float], unit: str = "rad", tol: float = 1e-12,
+
+def solve_position(mech: Mechanism, values: dict[str, float], unit: str = "rad", tol: float = DEFAULT.newton,
                    continuation: bool = True) -> Mechanism:
     """The mechanism at the configuration where its inputs take ``values``.
 
@@ -77,7 +81,7 @@ def solve_position(mech: Mechanism, values: dict[str, float], unit: str = "rad",
     curve = MechanismCurve(mech, singles[0], tuple(singles), tuple(
         target[c.label] / (mech.length_scale if c.kind == "length" else 1.0) for c in coords.values()))
     try:
-        y, _, res = newton(curve, curve.y0(), tol=tol, max_iterations=50)
+        y, _, res = correct(curve, curve.y0(), tol=tol, max_iterations=POSITION_ITERATIONS)
     except NotConvergedError as exc:
         res = exc.data.get("best_residual", exc.data.get("residual", math.nan))
         raise NotConvergedError(f"{mech.name}: the configuration cannot be assembled for these inputs: "

@@ -34,20 +34,28 @@ import numpy as np
 
 from symkin.analysis import indicators
 from symkin.analysis.classification import Analysis, analyze
-from symkin.errors import NotConvergedError, SymkinError
+from symkin.curves.events import ArclengthLimit, Closed, EventType, ParameterReached, SingularEvent
+from symkin.curves.locate import polish
+from symkin.curves.stepper import CurvePoint, Settings, correct, point_at, tangent
+from symkin.curves.tracer import TracedPoint, trace_curve
+from symkin.errors import SymkinError
+from symkin.kinds import Kind, describe
 from symkin.model.mechanism import Mechanism
-from symkin.paths.branching import Bifurcation, branch_directions, refine_singular_point
-from symkin.paths.continuation import CurvePoint, Settings, SteppingError, continue_curve, newton, tangent
 from symkin.numeric.linalg import independent_rows
-from symkin.paths.events import CurveEvent, TestFunction, locate_minimum, locate_sign_change, refine_rank_drop
+from symkin.paths.branching import Bifurcation, branch_directions
 from symkin.paths.system import MechanismCurve, make_curve
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
 
-_IM_DETECT = 0.05   # a local minimum of σ_{F+1} below this is refined (accepted: Tolerances.event)
-_FLAT = 1e-9        # a signed test below this at both ends of a step is identically zero there
-_ROOT = 1e-6        # a located root must bring the test below this fraction of its bracket values
+#: kinds in merging order: an event located by several tests takes the first of their kinds
+KIND_PRIORITY = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
+#: the arclength limit of a path by default (units of the model's length scale): ~10 full turns of a
+#: crank of unit length, far beyond any one loop of the catalogue's mechanisms
+MAX_ARCLENGTH = 60.0
+#: a model configuration whose closure residual (units of the length scale) exceeds this is projected
+#: onto the closure before the path starts (coordinates typed with ~10 significant digits close to it)
+START_CLOSURE = 1e-9
 
 
 @dataclass(frozen=True)
@@ -86,9 +94,23 @@ class PathEvent:
         events); a configuration found by several of them (the flattened Peaucellier–Lipkin
         inversor is a turning point of its crank and a branch point) is one event.
         """
-        if self.kind == "end":
-            return ("end",)
+        if self.kind == Kind.END:
+            return (Kind.END,)
         return tuple(dict.fromkeys((self.kind,) + tuple(_kind(t) for t in self.tests)))
+
+    @property
+    def reason(self) -> str | None:
+        """Why a LIM event's configuration is singular, in words (None for other kinds).
+
+        >>> from symkin.analysis.classification import analyze
+        >>> from symkin.model.catalogue import get
+        >>> a = analyze(get("fourbar_dead_centre"))
+        >>> PathEvent(Kind.LIM, 0.0, 0.0, None, a, 0.0, 0).reason
+        'link impossible motion (LIM): rocker cannot move'
+        """
+        if self.kind != Kind.LIM or self.analysis is None:
+            return None
+        return f"{describe(Kind.LIM)}: {', '.join(self.analysis.locked_links)} cannot move"
 
     @property
     def confirmed(self) -> bool | None:
@@ -98,7 +120,7 @@ class PathEvent:
         classifier, at its tolerance, does not call singular in that way (e.g. a point located
         only to ~1e-6 on a degenerate family of singular configurations); None for "end".
         """
-        if self.analysis is None or self.kind == "end":
+        if self.analysis is None or self.kind == Kind.END:
             return None
         return self.kind in self.analysis.types
 
@@ -128,7 +150,7 @@ class Path:
     turning_absolute: float | None = None
 
     def singular_events(self) -> tuple[PathEvent, ...]:
-        return tuple(e for e in self.events if e.kind != "end")
+        return tuple(e for e in self.events if e.kind != Kind.END)
 
     def to_dict(self, unit: str = "rad") -> dict:
         """JSON-ready: ``points`` and ``events`` with inputs in ``unit`` (``"deg"`` or ``"rad"``)."""
@@ -196,6 +218,11 @@ class _Counting:
     def second_derivative(self, y, v):
         return self.problem.second_derivative(y, v)
 
+    @property
+    def casadi_function(self):
+        """The curve's CasADi ``y ↦ (H, J)`` (exact derivatives for the singular-point locator)."""
+        return self.problem.casadi_function
+
 
 class _PointIndicators:
     """The indicators of :mod:`symkin.analysis.indicators` at points of a curve, once per point.
@@ -254,13 +281,80 @@ class _Value:
         return self.point(y)[self.key]
 
 
-def _test_functions(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = DEFAULT) -> list[TestFunction]:
+@dataclass(frozen=True)
+class _LinkMotion:
+    """The LIM test of one link at a point of the curve, along its tangent (:mod:`symkin.analysis.indicators`).
+
+    ``link_rate`` of the free node ``node`` about the fixed node ``pivot`` (planar) or the
+    axis ``pivot → axis_to`` (spatial) when the link has one; else ``link_speed`` of its free
+    nodes ``nodes``.  Positions in units of the length scale, velocities ``dy/ds = t``.
+    """
+
+    curve: MechanismCurve
+    nodes: tuple[int, ...]
+    pivot: int | None = None
+    axis_to: int | None = None
+
+    def __call__(self, y, t) -> float:
+        c = self.curve
+        shape = c.x0.shape
+        x = c.x_of(y) / c.scale
+        flat = np.zeros(x.size)
+        flat[c.free] = t
+        v = flat.reshape(shape)
+        if self.pivot is None:
+            return float(indicators.link_speed(v[list(self.nodes)]))
+        axis = None
+        if self.axis_to is not None:
+            axis = x[self.axis_to] - x[self.pivot]
+            axis = axis / np.linalg.norm(axis)
+        node = self.nodes[0]
+        return float(indicators.link_rate(x[node] - x[self.pivot], v[node], axis))
+
+
+def _link_motions(curve: MechanismCurve) -> dict[str, tuple[_LinkMotion, bool]]:
+    """Per moving link of a 1-DOF mechanism: its LIM test and whether it is signed (a fixed pivot or axis)."""
+    mech = curve.mech
+    index = mech.node_index()
+    fixed = set(mech.fixed)
+    x0 = curve.x0
+    out = {}
+    for link in mech.moving_links:
+        nodes = mech.link_nodes(link)
+        pins = [index[n] for n in nodes if n in fixed]
+        free = [index[n] for n in nodes if n not in fixed]
+        if not free:
+            continue
+        pivot = axis_to = None
+        if mech.dim == 2 and len(pins) == 1:
+            pivot = pins[0]
+        elif mech.dim == 3 and len(pins) >= 2 and np.linalg.norm(x0[pins[1]] - x0[pins[0]]) > 0:
+            pivot, axis_to = pins[0], pins[1]
+        elif pins:
+            continue  # a planar link held by two pins, or a spherical pivot: no turning test
+        if pivot is None:
+            out[link] = (_LinkMotion(curve, tuple(free)), False)
+            continue
+        a = x0[pins[1]] - x0[pivot] if axis_to is not None else None
+        a = None if a is None else a / np.linalg.norm(a)
+
+        def reach(k, a=a):
+            r = x0[k] - x0[pivot]
+            return float(np.linalg.norm(r if a is None else r - (r @ a) * a))
+        out[link] = (_LinkMotion(curve, (max(free, key=reach),), pivot, axis_to), True)
+    return out
+
+
+def event_types(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = DEFAULT) -> list[EventType]:
     """Signed DKP / bifurcation determinants and the IM minimum test (see module docstring).
 
     The DKP and IM tests are values of :mod:`symkin.analysis.indicators` (signed
     ``dkp_value`` for F parameter rows, else the deciding restricted singular value;
     ``σ_{F+1}`` of the dimensionless ``J``, whose largest singular value is of order 1);
-    minimum tests accept an event below ``tolerances.event_threshold``.
+    minimum tests accept an event below ``tolerances.event_threshold``.  A DKP event
+    located where ``σ_{F+1}`` is below ``tolerances.near_branch`` is relocated as the IM
+    minimum in its bracket (its determinant is ill-conditioned next to a branch point); IM
+    events are moved onto their branch point (:class:`~symkin.curves.events.SingularEvent`).
     """
     f = curve.mech.mobility_value
     point = _PointIndicators(curve, y0, tolerances)
@@ -268,30 +362,39 @@ def _test_functions(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerance
     jh = curve.jacobian(y0)
     sel_h = list(independent_rows(jh, tolerances.rank, jh.shape[1] - 1))
     accept = tolerances.event_threshold
+    im = SingularEvent(str(Kind.IM), _Value(point, "im_sigma"), signed=False, threshold=accept, kind=Kind.IM)
+    near = {"near": im, "near_threshold": tolerances.near_branch}
     tests = []
     if pin.shape[0] == f and f > 0:
-        tests.append(TestFunction("DKP-input", _Value(point, "dkp_input")))
+        tests.append(EventType(str(Kind.DKP_INPUT), _Value(point, "dkp_input"), kind=Kind.DKP_INPUT, **near))
     if pout.shape[0] == f and f > 0:
-        tests.append(TestFunction("DKP-output", _Value(point, "dkp_output")))
+        tests.append(EventType(str(Kind.DKP_OUTPUT), _Value(point, "dkp_output"), kind=Kind.DKP_OUTPUT, **near))
     elif pout.shape[0] > 0:
-        tests.append(TestFunction("DKP-output", _Value(point, "sigma_output"), signed=False, threshold=accept))
+        tests.append(EventType(str(Kind.DKP_OUTPUT), _Value(point, "sigma_output"), signed=False, threshold=accept,
+                               kind=Kind.DKP_OUTPUT, **near))
 
     def bif(y, t):
         return float(np.linalg.det(np.vstack([curve.jacobian(y)[sel_h], t[None, :]])))
-    tests.append(TestFunction("bifurcation", bif))
-    tests.append(TestFunction("IM", _Value(point, "im_sigma"), signed=False, threshold=accept))
+    tests.append(SingularEvent(str(Kind.BRANCH_POINT), bif, kind=Kind.IM, any_root=True))
+    tests.append(im)
+    if f == 1:
+        for link, (motion, signed) in _link_motions(curve).items():
+            # flat below the event threshold: on a branch along which the link stays locked (the double
+            # butterfly's LIM branch) its rate is rounding noise, not a sequence of stops
+            tests.append(EventType(f"{Kind.LIM}:{link}", motion, signed=signed, threshold=accept, kind=Kind.LIM,
+                                   flat=accept, **near))
     return tests
 
 
-def _indicators(tests: list[TestFunction], y, t) -> dict:
+def _indicators(tests: list[EventType], y, t) -> dict:
     """Recorded at every path point: the indicators' definition (``DKP-*`` as :func:`~symkin.analysis.indicators.dkp_value`)."""
     point = next(tf.f.point for tf in tests if isinstance(tf.f, _Value))
     vals = point(y)
     out = {"im_indicator": vals["im_indicator"], "im_sigma": vals["im_sigma"],
-           "bifurcation": next(tf.f(y, t) for tf in tests if tf.name == "bifurcation")}
-    for k, key in (("DKP-input", "dkp_input"), ("DKP-output", "dkp_output")):
+           str(Kind.BRANCH_POINT): next(tf.f(y, t) for tf in tests if tf.name == Kind.BRANCH_POINT)}
+    for k, key in ((Kind.DKP_INPUT, "dkp_input"), (Kind.DKP_OUTPUT, "dkp_output")):
         if any(tf.name == k for tf in tests):
-            out[k] = vals[key]
+            out[str(k)] = vals[key]
     return out
 
 
@@ -343,7 +446,7 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
     --------
     >>> from symkin.model.catalogue import get
     >>> p = trace(get("fourbar_appendix"), stop=360, unit="deg")
-    >>> p.stop_reason, sorted({e.kind for e in p.singular_events()})
+    >>> p.stop_reason, sorted({str(e.kind) for e in p.singular_events()})
     ('reached', ['DKP-output'])
     """
     if unit not in ("rad", "deg"):
@@ -355,9 +458,8 @@ def trace(mech: Mechanism, input: str | dict[str, float] | None = None, start: f
     settings = settings or Settings()
     counted = _Counting(curve)
     y0 = curve.y0()
-    res = np.linalg.norm(curve.residual(y0))
-    if res > 1e-9:
-        y0, _, res = newton(counted, y0)
+    if np.linalg.norm(curve.residual(y0)) > START_CLOSURE:
+        y0, _, _ = correct(counted, y0)
     if start != 0.0:
         y0 = _move_to(counted, curve, y0, start, settings, unit)
     _check_regular_start(curve, y0, drive_label=curve.drive.label, tolerances=tolerances)
@@ -404,204 +506,76 @@ def _move_to(counted, curve, y0, target, settings, unit: str = "rad") -> np.ndar
     return curve.y_of(path.points[-1].coordinates.ravel()[curve.free])
 
 
-_KIND_ORDER = ("IM", "DKP-input", "DKP-output")
-_CLOSURE = 1e-13  # located events are polished until |H| <= this (H is in units of the length scale)
+_TEST_KINDS = {Kind.BRANCH_POINT: Kind.IM, Kind.IM: Kind.IM}
 
 
-def _kind(test_name: str) -> str:
-    return "IM" if test_name in ("bifurcation", "IM") else test_name
-
-
-def _nullity(problem, y: np.ndarray, rank: float = DEFAULT.rank) -> int:
-    """Nullity of the curve's Jacobian at ``y`` at the classifier's rank tolerance (``Tolerances.rank``)."""
-    j = problem.jacobian(y)
-    s = np.linalg.svd(j, compute_uv=False)
-    top = float(s.max()) if s.size else 0.0
-    return j.shape[1] - int(np.count_nonzero(s > rank * top))
-
-
-def _polish(problem, y: np.ndarray, tol: float = _CLOSURE, max_iterations: int = 8,
-            rank: float = DEFAULT.rank) -> np.ndarray:
-    """Project a located event onto the closure ``H(y) = 0`` (paper eq. 5, made dimensionless).
-
-    Gauss–Newton with minimum-norm steps on the well-conditioned part of the Jacobian
-    (singular values above ``Tolerances.rank`` relative to the largest): at a singular
-    configuration the near-null directions are left alone, so the point moves by the
-    least amount that closes the loop, and it does not slide along a family of singular
-    configurations.  Stops when ``|H| <= tol`` or a step no longer reduces ``|H|``.
-    """
-    y = np.array(y, float)
-    r = problem.residual(y)
-    res = float(np.linalg.norm(r))
-    for _ in range(max_iterations):
-        if res <= tol:
-            break
-        dy = np.linalg.lstsq(problem.jacobian(y), -r, rcond=rank)[0]
-        r_new = problem.residual(y + dy)
-        res_new = float(np.linalg.norm(r_new))
-        if not res_new < res:
-            break
-        y, r, res = y + dy, r_new, res_new
-    return y
-
-
-def _higher_rank_drop(problem, y: np.ndarray, radius: float, rank: float = DEFAULT.rank) -> np.ndarray:
-    """The isolated point of higher nullity next to a branch point ``y``, when there is one.
-
-    When the next singular value of the Jacobian is small as well (below ``_IM_DETECT``
-    relative to the largest) the branch point may lie on a family of singular
-    configurations that the path crosses at a point of higher nullity (Peaucellier–Lipkin
-    with A = B); :func:`~symkin.paths.events.refine_rank_drop` finds it.  It is accepted
-    only when it converged within ``radius`` of ``y`` (the length of the continuation step
-    that bracketed the event, in units of the length scale) and has a larger nullity at
-    ``Tolerances.rank``.
-    """
-    j = problem.jacobian(y)
-    n = j.shape[1]
-    s = np.sort(np.concatenate([np.linalg.svd(j, compute_uv=False), np.zeros(max(0, n - j.shape[0]))]))
-    base = _nullity(problem, y, rank)
-    if base < 2 or base + 1 > s.size or s[base] > _IM_DETECT * s[-1]:
-        return y
-    y_hi, converged = refine_rank_drop(problem, y, base)
-    if converged and np.linalg.norm(y_hi - y) <= radius and _nullity(problem, y_hi, rank) > base:
-        return y_hi
-    return y
+def _kind(test_name: str) -> Kind:
+    """The kind of event a test locates (``bifurcation`` and ``IM`` both locate IM events, ``LIM:<link>`` LIM events)."""
+    return _TEST_KINDS.get(test_name) or Kind(test_name.split(":", 1)[0])
 
 
 def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, settings, progress,
          branch_analysis, record: bool = True, t0: np.ndarray | None = None,
          max_change: float | None = None, unit: str = "rad", tolerances: Tolerances = DEFAULT) -> Path:
+    """The mechanism layer over :func:`symkin.curves.tracer.trace_curve`.
+
+    Builds the event types from the indicators (:func:`event_types`), the stop rules
+    (input reached, closed on the start, arclength limit), the input as the curve's
+    parameter (angles unwrapped from point to point), calls the tracer, and classifies
+    every located event with :func:`symkin.analyze`.
+    """
     mech = curve.mech
     kind = curve.drive.kind
     scale_in = 1.0 if kind == "angle" else curve.scale
     direction = 1.0 if stop >= start else -1.0
     if t0 is None:
         t0 = _initial_tangent(curve, y0, direction)
-    tests = _test_functions(curve, y0, tolerances) if record else []
-    max_s = 60.0 if max_arclength is None else float(max_arclength)
-    reference = {"value": start}
+    tests = event_types(curve, y0, tolerances) if record else []
+    max_s = MAX_ARCLENGTH if max_arclength is None else float(max_arclength)
 
-    def input_of(y):
-        return _unwrap(curve.input_value(y), reference["value"], kind)
+    def input_of(y, reference):
+        return _unwrap(curve.input_value(y), reference, kind)
 
-    end_test = TestFunction("end", lambda y, t: (input_of(y) - stop) / scale_in)
     points: list[PathPoint] = []
-    found: list[dict] = []  # located events: y, t, s, value, evaluations, tests, input
-    reason, message = "max_arclength", f"arclength limit {max_s:g} (units of the model's length scale) reached"
-    history: list[tuple[CurvePoint, dict, float]] = []
 
-    im_test = next((tf for tf in tests if tf.name == "IM"), None)
+    def on_point(tp: TracedPoint) -> None:
+        points.append(_point(curve, tp.point.y, tp.p, tp.point.s, tests, tp.point.t))
+        if progress is not None and stop != start:
+            progress(min(1.0, max(0.0, (tp.p - start) / (stop - start))))
 
-    def record_event(ev: CurveEvent, ref: float, lo: CurvePoint, hi: CurvePoint) -> None:
-        """Refine, polish onto the closure and record (or merge) the event ``ev`` bracketed by ``lo``, ``hi``.
+    def guard(previous, y):
+        if max_change is None:
+            return True
+        before = input_of(previous.y, points[-1].input if points else start)
+        return abs(input_of(y, before) - before) <= max_change
 
-        A DKP test that fires at (or next to) a branch point, where its determinant is
-        ill-conditioned, is relocated as the minimum of ``σ_{F+1}`` along the curve in its
-        bracket and becomes an IM event.  A branch point is refined on the extended system
-        (:func:`~symkin.paths.branching.refine_singular_point`) unless that lowers the
-        nullity of the Jacobian: on a family of singular configurations (e.g. the
-        Peaucellier–Lipkin inversor with A = B) the extended system slides along the
-        family away from the point the path crosses.  Events closer than
-        ``Tolerances.same_configuration`` are one event carrying every test that located it.
-        """
-        y, t, s = ev.y, ev.t, ev.s
-        kind_ = _kind(ev.name)
-        evaluations = ev.evaluations
-        if kind_ != "IM" and im_test is not None and im_test.f(y, t) < tolerances.near_branch:
-            near = locate_minimum(counted, im_test, lo, CurvePoint(y, t, s), hi)
-            kind_ = "IM"
-            if near is not None:
-                y, t, s, evaluations = near.y, near.t, near.s, evaluations + near.evaluations
-        if kind_ == "IM":
-            y_ref, _ = refine_singular_point(counted, y)
-            if _nullity(counted, y_ref, tolerances.rank) >= _nullity(counted, y, tolerances.rank):
-                y, t = y_ref, tangent(counted, y_ref, t)
-            y = _higher_rank_drop(counted, y, float(np.linalg.norm(hi.y - lo.y)), tolerances.rank)
-        y = _polish(counted, y, rank=tolerances.rank)
-        reference["value"] = ref
-        value = input_of(y)
-        for item in found:
-            if np.linalg.norm(item["y"] - y) < tolerances.same_configuration:
-                item["tests"].append(ev.name)
-                if _KIND_ORDER.index(kind_) < _KIND_ORDER.index(item["kind"]):
-                    item.update(kind=kind_, y=y, t=t, input=value, s=s)
-                item["evaluations"] += evaluations
-                return
-        found.append({"kind": kind_, "y": y, "t": t, "s": s, "value": ev.value, "input": value,
-                      "evaluations": evaluations, "tests": [ev.name]})
-
-    end_event = None
-    try:
-        def guard(previous, y):
-            if max_change is None:
-                return True
-            before = _unwrap(curve.input_value(previous.y), reference["value"], kind)
-            return abs(_unwrap(curve.input_value(y), before, kind) - before) <= max_change
-
-        for cp in continue_curve(counted, y0, t0, settings, guard=guard):
-            prev_value = history[-1][2] if history else start
-            reference["value"] = prev_value
-            value = input_of(cp.y)
-            vals = {tf.name: tf.f(cp.y, cp.t) for tf in tests}
-            if history:
-                pcp, pvals, pvalue = history[-1]
-                for tf in tests:
-                    fa, fb = pvals[tf.name], vals[tf.name]
-                    # a test that is ~0 on the whole step (the path runs along such a
-                    # configuration, e.g. a locked input link) has no isolated root to locate
-                    if tf.signed and np.sign(fa) * np.sign(fb) < 0 and max(abs(fa), abs(fb)) > _FLAT:
-                        reference["value"] = pvalue
-                        ev = locate_sign_change(counted, tf, pcp, cp)
-                        # a sign change through a jump (not a zero) leaves a large value at the "root"
-                        if abs(ev.value) <= _ROOT * max(abs(fa), abs(fb)) or _kind(tf.name) == "IM":
-                            record_event(ev, pvalue, pcp, cp)
-                if len(history) >= 2:
-                    (a, av, _), (b, bv, bvalue) = history[-2], history[-1]
-                    for tf in tests:
-                        if not tf.signed and bv[tf.name] < _IM_DETECT and bv[tf.name] <= av[tf.name] \
-                                and bv[tf.name] <= vals[tf.name]:
-                            ev = locate_minimum(counted, tf, a, b, cp)
-                            if ev is not None:
-                                record_event(ev, bvalue, a, cp)
-                if (pvalue - stop) * direction < 0 <= (value - stop) * direction:
-                    reference["value"] = pvalue
-                    ev = locate_sign_change(counted, end_test, pcp, cp)
-                    end_event = (ev, stop)
-                    reason, message = "reached", "the input reached its target value"
-                    break
-                crossed = float(t0 @ (pcp.y - y0)) < 0 <= float(t0 @ (cp.y - y0))
-                if crossed and cp.s > 4 * settings.step and np.linalg.norm(cp.y - y0) < 2 * settings.max_step:
-                    reason, message = "closed", "the path closed on its start (a full loop)"
-                    turns = round((value - start) / (2 * math.pi)) if kind == "angle" else 0
-                    points.append(_point(curve, y0, start + 2 * math.pi * turns, cp.s, tests, t0))
-                    break
-            points.append(_point(curve, cp.y, value, cp.s, tests, cp.t))
-            history.append((cp, vals, value))
-            history[:] = history[-2:]
-            if progress is not None and stop != start:
-                progress(min(1.0, max(0.0, (value - start) / (stop - start))))
-            if cp.s > max_s:
-                break
-    except (SteppingError, NotConvergedError) as exc:
-        reason, message = "stuck", str(exc)
+    stops = [ParameterReached(stop, direction, input_of, scale_in),
+             Closed(y0, t0, 4 * settings.step, 2 * settings.max_step), ArclengthLimit(max_s)]
+    traced = trace_curve(counted, y0, t0, events=tests, stops=stops, settings=settings, parameter=input_of,
+                         p0=start, guard=guard, on_point=on_point, priority=KIND_PRIORITY, tolerances=tolerances)
+    reason, message = traced.stop.reason, traced.stop.message
+    if reason == Kind.CLOSED:
+        last = traced.stop.point
+        turns = round((last.p - start) / (2 * math.pi)) if kind == "angle" else 0
+        points.append(_point(curve, y0, start + 2 * math.pi * turns, last.point.s, tests, t0))
 
     events = []
-    for item in sorted(found, key=lambda it: it["s"]):
-        x = curve.x_of(item["y"])
+    for item in traced.events:
+        x = curve.x_of(item.y)
         analysis = analyze(mech.with_coordinates(x), tol=tolerances)
-        bif = (branch_directions(counted, item["y"], rank_tol=tolerances.event_threshold)
-               if (branch_analysis and item["kind"] == "IM") else None)
-        events.append(PathEvent(item["kind"], item["input"], item["s"], x, analysis, item["value"],
-                                item["evaluations"], curve.drive.absolute(mech, x), bif, item["y"], item["t"],
-                                tuple(dict.fromkeys(item["tests"]))))
-    if end_event is not None:
-        ev, value = end_event
-        y_end = _polish(counted, ev.y, rank=tolerances.rank)
-        points.append(_point(curve, y_end, value, ev.s, tests, ev.t))
+        bif = (branch_directions(counted, item.y, rank_tol=tolerances.event_threshold)
+               if (branch_analysis and item.kind == Kind.IM) else None)
+        events.append(PathEvent(item.kind, item.p, item.s, x, analysis, item.value, item.evaluations,
+                                curve.drive.absolute(mech, x), bif, item.y, item.t, item.tests))
+    ev = traced.stop.event
+    if ev is not None:
+        y_end = polish(counted, ev.y, tolerances.closure, tolerances.rank)
+        points.append(_point(curve, y_end, stop, ev.s, tests, ev.t))
         if record:
-            events.append(PathEvent("end", value, ev.s, curve.x_of(y_end), None, ev.value, ev.evaluations,
-                                    curve.drive.absolute(mech, curve.x_of(y_end)), None, y_end, ev.t, ("end",)))
-    turn = _turning(points, events, start, stop, kind) if reason == "closed" else None
+            events.append(PathEvent(Kind.END, stop, ev.s, curve.x_of(y_end), None, ev.value, ev.evaluations,
+                                    curve.drive.absolute(mech, curve.x_of(y_end)), None, y_end, ev.t,
+                                    (str(Kind.END),)))
+    turn = _turning(points, events, start, stop, kind) if reason == Kind.CLOSED else None
     if turn is not None:
         reason = "unreachable"
         absolute = "" if turn.absolute is None else f" (absolute {_format_value(turn.absolute, kind, unit)})"
@@ -632,7 +606,7 @@ def _turning(points, events, start: float, stop: float, kind: str):
         return None
     if kind == "angle" and float(progress.max() - progress.min()) >= 2 * math.pi:
         return None
-    candidates = list(points) + [e for e in events if e.kind != "end"]
+    candidates = list(points) + [e for e in events if e.kind != Kind.END]
     best = max(candidates, key=lambda c: (c.input - start) * direction)
     if (best.input - start) * direction >= (stop - start) * direction:
         return None
@@ -665,8 +639,6 @@ def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float =
     counted = _Counting(curve)
     # first step off the bifurcation point along the chosen direction
     base = CurvePoint(ev.y, direction / np.linalg.norm(direction), 0.0)
-    from symkin.paths.continuation import point_at
-
     y1 = point_at(counted, base, settings.step)
     conv = math.pi / 180.0 if (unit == "deg" and path.kind == "angle") else 1.0
     value1 = curve.input_value(y1)
@@ -674,6 +646,6 @@ def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float =
     t1 = tangent(counted, y1, direction)
     sub = _run(counted, curve, y1, value1, target, max_arclength, settings, None, True, t0=t1, unit=unit,
                tolerances=tolerances)
-    tests = _test_functions(curve, y1, tolerances)
+    tests = event_types(curve, y1, tolerances)
     first = _point(curve, ev.y, ev.input, 0.0, tests, direction)
     return replace(sub, points=(first,) + sub.points)

@@ -16,6 +16,7 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from symkin.errors import SymkinError
+from symkin.kinds import Kind
 from symkin.paths.trace import Path
 from symkin.plots.mechanism import coordinates, draw_mechanism, is_3d, new_axes, set_equal_3d
 
@@ -24,19 +25,20 @@ __all__ = ["plot_indicators", "plot_traces", "plot_event_configurations", "path_
 
 #: colour and marker of each test function and of its located events
 STYLE = {
-    "IM": dict(colour="#d62728", marker="o"),
-    "DKP-input": dict(colour="#1f77b4", marker="s"),
-    "DKP-output": dict(colour="#2ca02c", marker="D"),
-    "bifurcation": dict(colour="#9467bd", marker="o"),
+    Kind.IM: dict(colour="#d62728", marker="o"),
+    Kind.DKP_INPUT: dict(colour="#1f77b4", marker="s"),
+    Kind.DKP_OUTPUT: dict(colour="#2ca02c", marker="D"),
+    Kind.BRANCH_POINT: dict(colour="#9467bd", marker="o"),
+    Kind.LIM: dict(colour="#ff7f0e", marker="v"),  # a link stops: a downward triangle
 }
 _CURVES = (  # indicator key, style key, legend label
-    ("im_indicator", "IM", r"IM indicator $\lambda_{F+1}$ (eigenvalue of G)"),
-    ("DKP-input", "DKP-input", "DKP-input test (signed determinant)"),
-    ("DKP-output", "DKP-output", "DKP-output test"),
+    ("im_indicator", Kind.IM, r"IM indicator $\lambda_{F+1}$ (eigenvalue of G)"),
+    (str(Kind.DKP_INPUT), Kind.DKP_INPUT, "DKP-input test (signed determinant)"),
+    (str(Kind.DKP_OUTPUT), Kind.DKP_OUTPUT, "DKP-output test"),
 )
-_EVENT_KINDS = ("IM", "DKP-input", "DKP-output")
+_EVENT_KINDS = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
 _PANELS_PER_ROW = 5  # small multiples of save_path_figures: panels per row
-_LINESTYLE = {"DKP-output": (0, (5, 2)), "bifurcation": ":"}  # dashed: visible where it overlaps DKP-input
+_LINESTYLE = {str(Kind.DKP_OUTPUT): (0, (5, 2)), str(Kind.BRANCH_POINT): ":"}  # dashed: visible where it overlaps DKP-input
 
 
 def _check(path: Path) -> None:
@@ -90,7 +92,7 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
       (DKP-output) configuration;
     * with ``bifurcation=True``, the determinant of the continuation's augmented Jacobian,
       which changes sign at a simple branch point (IM);
-    * every located event (kinds IM, DKP-input, DKP-output) as a marker on the zero line,
+    * every located event (kinds IM, DKP-input, DKP-output, LIM) as a marker on the zero line,
       in the colour of its test function, annotated with its number (as in the text report
       and the JSON ``events``), its kind, its input value and, for a planar rotation, the
       link's absolute angle.
@@ -141,7 +143,7 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
         ax = new_axes(False, figsize=(7.5, 4.8))
     xs, mode, xlabel = abscissa(path, unit, x)
     conv, uname = _unit_factor(path, unit)
-    curves = list(_CURVES) + ([("bifurcation", "bifurcation", "bifurcation test det[J; t]")] if bifurcation else [])
+    curves = list(_CURVES) + ([(str(Kind.BRANCH_POINT), Kind.BRANCH_POINT, "bifurcation test det[J; t]")] if bifurcation else [])
     for key, style, label in curves:
         vals = np.array([_num(p.indicators.get(key)) for p in path.points], float)
         if not np.isfinite(vals).any():

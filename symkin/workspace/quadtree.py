@@ -20,8 +20,9 @@ change (crossings, located and traced as the grid's own) and the dip points (loc
 double zeros by :func:`symkin.workspace.loci.locate_double_zero`: ``T = 0`` together with
 ``∂T/∂n = 0`` along the line through the dip).
 
-Only plain NumPy here: the square position problem and the test function come from the caller
-(``sample(a, y_start) -> (y, T)``).
+Only plain NumPy here: the square position problem and the test function come from the caller,
+batched (``solve(A, Y0) -> (Y, converged)``, ``value(Y) -> T``): every level of every subdivision
+is solved as one batch.
 """
 from __future__ import annotations
 
@@ -31,9 +32,8 @@ from typing import Callable
 
 import numpy as np
 
-from symkin.errors import NotConvergedError
 
-__all__ = ["DIP_RATIO", "DEPTH", "dips", "dip_mask", "Subdivision", "subdivide"]
+__all__ = ["DIP_RATIO", "DEPTH", "dips", "dip_mask", "Subdivision", "subdivide", "subdivide_many"]
 
 #: the near-zero test of a grid minimum of ``|T|``: the parabola through ``|T|`` at the point and
 #: its two neighbours on a grid line has its minimum at most ``DIP_RATIO`` times its rise over
@@ -43,8 +43,16 @@ __all__ = ["DIP_RATIO", "DEPTH", "dips", "dip_mask", "Subdivision", "subdivide"]
 DIP_RATIO = 1.0
 #: subdivision depth: a flagged cell is cut down to cells of side ``1 / 2**DEPTH`` of the grid's
 DEPTH = 3
+#: relative slack of the box test of a subdivision point (``a_centre + fine·p`` on the box edge, rounded)
+_BOX_SLACK = 1e-12
 #: sub-steps per finest cell when a subdivision point is solved from its nearest solved point
 _MARCH = 2
+
+
+#: ``solve(A (k, 2), Y0 (k, nf)) -> (Y (k, nf), converged (k,))``: the square problem at k axis points, one batch
+Solve = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+#: ``value(Y (k, nf)) -> T (k,)``: the signed test function at k configurations, one batch
+Value = Callable[[np.ndarray], np.ndarray]
 
 
 def dips(values: np.ndarray, assembled: np.ndarray, j, i, region: np.ndarray | None = None) -> np.ndarray:
@@ -109,100 +117,162 @@ class Subdivision:
     samples: int = 0
 
 
-def subdivide(sample: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, float]], a_centre: np.ndarray,
-              y_centre: np.ndarray, t_centre: float, cell: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-              depth: int | None = None) -> Subdivision:
-    """Subdivide the (up to four) grid cells around a dip at ``a_centre`` (see the module docstring).
+def subdivide(solve: Solve, value: Value, a_centre: np.ndarray, y_centre: np.ndarray, t_centre: float,
+              cell: np.ndarray, lo: np.ndarray, hi: np.ndarray, depth: int | None = None) -> Subdivision:
+    """Subdivide the (up to four) grid cells around one dip at ``a_centre``: :func:`subdivide_many` of one."""
+    return subdivide_many(solve, value, [(a_centre, y_centre, t_centre)], cell, lo, hi, depth)[0]
+
+
+def subdivide_many(solve: Solve, value: Value, centres, cell: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                   depth: int | None = None) -> list[Subdivision]:
+    """Subdivide the (up to four) grid cells around each dip of ``centres`` (see the module docstring).
 
     Parameters
     ----------
-    sample : callable
-        ``sample(a, y_start) -> (y, T)``: the square position problem solved at dimensionless
-        axis values ``a`` by Newton from ``y_start``, and the signed test function there;
-        raises :class:`NotConvergedError` where the mode does not assemble.
-    a_centre, y_centre, t_centre : the dip's axis values, configuration and ``T``.
+    solve : callable
+        ``solve(A, Y0) -> (Y, converged)``: the square position problem solved at the
+        dimensionless axis values of each row of ``A`` (k, 2) from the rows of ``Y0`` — one
+        batch (a batched Gauss–Newton on a mapped Function, never a loop of scalar solves);
+        ``converged`` (k,) is False where the mode does not assemble.
+    value : callable
+        ``value(Y) -> T`` (k,): the signed test function at the rows of ``Y``, one batch.
+    centres : sequence of ``(a_centre, y_centre, t_centre)``
+        Each dip's axis values, configuration and ``T``.
     cell : (2,) the grid's cell sides (dimensionless).
     lo, hi : (2,) the box; cells outside it are not subdivided.
     depth : int, optional
         Finest cells have side ``cell / 2**depth`` (default :data:`DEPTH`).
 
-    A point is solved from the nearest point already solved in ``_MARCH`` sub-steps per
-    finest cell (a short continuation: no jump to another mode over a large step).  A cell
-    is cut while it has a sign change among its corners, or holds the smallest ``|T|`` of
-    its parent's nine points (the dip); a cell with a corner that does not assemble is left
-    (its boundary is a fold, located from the grid).
+    All trees advance one level at a time, and each level's new points of every tree are
+    solved in one batch.  A point is solved from the nearest point of its tree solved
+    before, in ``_MARCH`` sub-steps per finest cell (a short continuation: no jump to
+    another mode over a large step; one batch per sub-step).  A cell is cut while it has a
+    sign change among its corners, or holds the smallest ``|T|`` of its parent's nine
+    points (the dip); a cell with a corner that does not assemble is left (its boundary is
+    a fold, located from the grid).  Returns one :class:`Subdivision` per centre.
     """
     m = 2 ** int(DEPTH if depth is None else depth)
     fine = np.asarray(cell, float) / m
-    a_centre = np.asarray(a_centre, float)
-    pts: dict = {(0, 0): (np.asarray(y_centre, float), float(t_centre))}
-    out = Subdivision()
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    trees = [_Tree(np.asarray(a, float), {(0, 0): (np.asarray(y, float), float(t))}, Subdivision())
+             for a, y, t in centres]
 
-    def a_of(p):
-        return a_centre + fine * np.array(p, float)
-
-    def inside(p):
-        a = a_of(p)
-        return bool(np.all(a >= lo - 1e-12 * np.abs(lo)) and np.all(a <= hi + 1e-12 * np.abs(hi)))
-
-    def get(p):
-        if p in pts:
-            return pts[p]
-        near = min(pts, key=lambda k: (abs(k[0] - p[0]) + abs(k[1] - p[1]), k))
-        y = pts[near][0]
-        if y is None:
-            pts[p] = (None, math.nan)
-            return pts[p]
-        steps = max(1, int(math.ceil(max(abs(near[0] - p[0]), abs(near[1] - p[1])) * _MARCH)))
-        a0, a1 = a_of(near), a_of(p)
-        try:
-            for k in range(1, steps + 1):
-                y, t = sample(a0 + (a1 - a0) * (k / steps), y)
-        except NotConvergedError:
-            y, t = None, math.nan
-        out.samples += 1
-        pts[p] = (y, float(t))
-        return pts[p]
-
-    def corners(c):
-        (u, v), s = c
-        return [(u, v), (u + s, v), (u, v + s), (u + s, v + s)]
+    def inside(tree, p):
+        a = tree.a_of(p, fine)
+        return bool(np.all(a >= lo - _BOX_SLACK * np.abs(lo)) and np.all(a <= hi + _BOX_SLACK * np.abs(hi)))
 
     top = [((u, v), m) for u in (-m, 0) for v in (-m, 0)]
-    todo = [(c, True) for c in top if all(inside(p) for p in corners(c))]
-    while todo:
-        nxt = []
-        for c, dip in todo:
-            vals = [get(p) for p in corners(c)]
-            if any(y is None or not math.isfinite(t) for y, t in vals):
+    for tree in trees:
+        tree.todo = [(c, True) for c in top if all(inside(tree, p) for p in _corners(c))]
+    while any(tree.todo for tree in trees):
+        _solve_points(solve, value, fine, [(t, [p for c, _ in t.todo for p in _corners(c)]) for t in trees])
+        cut = []
+        for tree in trees:
+            pending = []
+            for c, dip in tree.todo:
+                vals = [tree.pts[p] for p in _corners(c)]
+                if any(y is None or not math.isfinite(t) for y, t in vals):
+                    continue
+                sg = [math.copysign(1.0, t) for _, t in vals]
+                change = len(set(sg)) > 1
+                if not (change or dip):
+                    continue
+                if c[1] == 1:  # finest cell
+                    ps = _corners(c)
+                    if change:
+                        for ka, kb in ((0, 1), (0, 2), (1, 3), (2, 3)):
+                            if sg[ka] != sg[kb]:
+                                tree.out.crossings.append((tree.a_of(ps[ka], fine), vals[ka][0],
+                                                           tree.a_of(ps[kb], fine), vals[kb][0]))
+                    else:
+                        k = int(np.argmin([abs(t) for _, t in vals]))
+                        tree.out.dips.append((tree.a_of(ps[k], fine), vals[k][0], fine.copy()))
+                    continue
+                pending.append((c, dip))
+            cut.append(pending)
+        _solve_points(solve, value, fine, [(t, [p for c, _ in pending for kid in _kids(c) for p in _corners(kid)])
+                                           for t, pending in zip(trees, cut)])
+        for tree, pending in zip(trees, cut):
+            nxt = []
+            for c, dip in pending:
+                kids = _kids(c)
+                nine = {p: tree.pts[p] for kid in kids for p in _corners(kid)}
+                finite = {p: abs(t) for p, (y, t) in nine.items() if y is not None and math.isfinite(t)}
+                low = min(finite.values()) if finite else math.inf
+                for kid in kids:
+                    holds_min = dip and any(finite.get(p, math.inf) == low for p in _corners(kid))
+                    nxt.append((kid, holds_min))
+            tree.todo = nxt
+    for tree in trees:
+        tree.out.crossings = _unique_edges(tree.out.crossings)
+        tree.out.dips = _unique_points(tree.out.dips)
+    return [tree.out for tree in trees]
+
+
+@dataclass
+class _Tree:
+    """One dip's subdivision: its centre, the points solved (``(u, v)`` in finest cells → ``(y, T)``)."""
+
+    a_centre: np.ndarray
+    pts: dict
+    out: Subdivision
+    todo: list = field(default_factory=list)
+
+    def a_of(self, p, fine: np.ndarray) -> np.ndarray:
+        return self.a_centre + fine * np.array(p, float)
+
+
+def _corners(c):
+    (u, v), s = c
+    return [(u, v), (u + s, v), (u, v + s), (u + s, v + s)]
+
+
+def _kids(c):
+    (u, v), s = c
+    h = s // 2
+    return [((u + du, v + dv), h) for du in (0, h) for dv in (0, h)]
+
+
+def _solve_points(solve: Solve, value: Value, fine: np.ndarray, wanted) -> None:
+    """Solve the points ``wanted`` (``[(tree, [p, ...])]``) not solved yet, all trees in one batch per sub-step.
+
+    Each from the nearest point of its tree solved before (``(None, nan)`` when that one did
+    not assemble), in ``_MARCH`` sub-steps per finest cell.
+    """
+    jobs = []  # (tree, p, y_start, a_start, a_end, steps)
+    for tree, ps in wanted:
+        known = list(tree.pts)
+        for p in dict.fromkeys(ps):
+            if p in tree.pts:
                 continue
-            sg = [math.copysign(1.0, t) for _, t in vals]
-            change = len(set(sg)) > 1
-            if not (change or dip):
+            near = min(known, key=lambda k: (abs(k[0] - p[0]) + abs(k[1] - p[1]), k))
+            y = tree.pts[near][0]
+            if y is None:
+                tree.pts[p] = (None, math.nan)
                 continue
-            (u, v), s = c
-            if s == 1:  # finest cell
-                ps = corners(c)
-                if change:
-                    for ka, kb in ((0, 1), (0, 2), (1, 3), (2, 3)):
-                        if sg[ka] != sg[kb]:
-                            out.crossings.append((a_of(ps[ka]), vals[ka][0], a_of(ps[kb]), vals[kb][0]))
-                else:
-                    k = int(np.argmin([abs(t) for _, t in vals]))
-                    out.dips.append((a_of(ps[k]), vals[k][0], fine.copy()))
-                continue
-            h = s // 2
-            kids = [((u + du, v + dv), h) for du in (0, h) for dv in (0, h)]
-            nine = {p: get(p) for kid in kids for p in corners(kid)}
-            finite = {p: abs(t) for p, (y, t) in nine.items() if y is not None and math.isfinite(t)}
-            low = min(finite.values()) if finite else math.inf
-            for kid in kids:
-                holds_min = dip and any(finite.get(p, math.inf) == low for p in corners(kid))
-                nxt.append((kid, holds_min))
-        todo = nxt
-    out.crossings = _unique_edges(out.crossings)
-    out.dips = _unique_points(out.dips)
-    return out
+            steps = max(1, int(math.ceil(max(abs(near[0] - p[0]), abs(near[1] - p[1])) * _MARCH)))
+            jobs.append((tree, p, y, tree.a_of(near, fine), tree.a_of(p, fine), steps))
+            tree.pts[p] = None  # reserved: solved below
+    if not jobs:
+        return
+    y = np.array([j[2] for j in jobs], float)
+    a0, a1 = np.array([j[3] for j in jobs]), np.array([j[4] for j in jobs])
+    steps = np.array([j[5] for j in jobs])
+    ok = np.ones(len(jobs), bool)
+    for k in range(1, int(steps.max()) + 1):
+        act = np.flatnonzero(ok & (steps >= k))
+        if act.size == 0:
+            break
+        target = a0[act] + (a1[act] - a0[act]) * (k / steps[act])[:, None]
+        y_new, conv = solve(target, y[act])
+        y[act] = y_new
+        ok[act[~np.asarray(conv, bool)]] = False
+    t = np.full(len(jobs), math.nan)
+    if ok.any():
+        t[ok] = np.asarray(value(y[ok]), float)
+    for k, (tree, p, *_rest) in enumerate(jobs):
+        tree.pts[p] = (y[k].copy(), float(t[k])) if ok[k] else (None, math.nan)
+        tree.out.samples += 1
 
 
 def _unique_edges(edges: list) -> list:

@@ -79,6 +79,7 @@ from symkin.model.labels import parse_hold  # noqa: F401  (moved to the model st
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.numeric.coordinates import InputCoordinate, accepted_input_labels, parse_input_label
+from symkin.curves.corrector import gauss_newton_batch
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["MapCoordinate", "MapSystem", "map_system", "parse_hold", "UNITS", "NEWTON_TOL", "NEWTON_ITER"]
@@ -459,61 +460,13 @@ class MapSystem:
         n = q.shape[0]
         if t.shape[0] != n:
             raise ValueError("one row of xy per starting configuration")
-        converged = np.zeros(n, bool)
-        residual = np.full(n, np.inf)
-        iterations = np.zeros(n, int)
-        active = np.arange(n)
-        jac_out = np.full((n, self.nf, self.nf), np.nan) if return_jacobian else None
-        for it in range(max_iter + 1):
-            if active.size == 0:
-                break
-            s, jac = self.evaluate("square", q[active], t[active])
-            err = np.max(np.abs(s), axis=1) if s.size else np.zeros(active.size)
-            before = residual[active]
-            residual[active] = err
-            done = err <= tol
-            converged[active[done]] = True
-            iterations[active[done]] = it
-            if jac_out is not None:
-                jac_out[active[done]] = jac[done]
-            # a residual that grows after the first steps: Newton diverges (no solution near), stop it
-            keep = ~done & np.isfinite(err) & ((it < DIVERGE_AFTER) | (err < before))
-            active, s, jac = active[keep], s[keep], jac[keep]
-            if active.size == 0 or it == max_iter:
-                break
-            step = _solve_stacked(jac, s)
-            ok = np.all(np.isfinite(step), axis=1)
-            q[active[ok]] -= step[ok]
-            iterations[active] = it + 1
-            active = active[ok]
+        out = gauss_newton_batch(lambda z, rows: self.evaluate("square", z, t[rows]), q, tol=tol,
+                                 max_iterations=max_iter, diverge_after=DIVERGE_AFTER, norm="max",
+                                 return_jacobian=return_jacobian)
         if return_jacobian:
-            return q, converged, residual, iterations, jac_out
-        return q, converged, residual, iterations
-
-
-def _solve_stacked(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a⁻¹ b`` for stacked square systems; the minimum-norm least-squares step where ``a`` is singular.
-
-    An exactly singular square problem is an IM configuration on the grid (Fig. 14: with the
-    end-effector on the common pivot the collapsed rhombus turns freely about it): the
-    solutions there form a family, and the minimum-norm Gauss–Newton step converges onto
-    it, so a grid point on the closure within Newton's tolerance is assembled (it is the
-    limit configuration of the mode).  Where there is no solution the residual stays above
-    the tolerance and the point is not converged, as before.  NaN rows where ``a`` or
-    ``b`` is not finite.
-    """
-    try:
-        return np.linalg.solve(a, b[:, :, None])[:, :, 0]
-    except np.linalg.LinAlgError:
-        out = np.full(b.shape, np.nan)
-        for k in range(a.shape[0]):
-            if not (np.all(np.isfinite(a[k])) and np.all(np.isfinite(b[k]))):
-                continue
-            try:
-                out[k] = np.linalg.solve(a[k], b[k])
-            except np.linalg.LinAlgError:
-                out[k] = np.linalg.lstsq(a[k], b[k], rcond=None)[0]
-        return out
+            jac = out.jacobian if out.jacobian is not None else np.full((n, self.nf, self.nf), np.nan)
+            return out.z, out.converged, out.residual, out.iterations, jac
+        return out.z, out.converged, out.residual, out.iterations
 
 
 def map_system(mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg",

@@ -8,7 +8,7 @@ import pytest
 from symkin.cli import main
 from symkin.model.catalogue import get
 from symkin.paths.system import make_curve
-from symkin.paths.trace import _test_functions, trace
+from symkin.paths.trace import event_types, trace
 from symkin.tolerances import Tolerances
 from tests.conftest import EXAMPLES
 
@@ -16,7 +16,7 @@ from tests.conftest import EXAMPLES
 def test_event_thresholds_come_from_the_tolerance():
     curve = make_curve(get("fourbar_appendix"))
     for tol in (Tolerances(), Tolerances.of(1e-6), Tolerances(rank=1e-8, event=100.0)):
-        tests = {t.name: t for t in _test_functions(curve, curve.y0(), tol)}
+        tests = {t.name: t for t in event_types(curve, curve.y0(), tol)}
         assert tests["IM"].threshold == tol.event * tol.rank
         assert tests["DKP-output"].signed and tests["DKP-input"].signed
 

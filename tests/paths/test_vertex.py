@@ -71,9 +71,8 @@ def test_tangent_contact_located_to_rounding_by_deflation(butterfly, sign):
         assert float(np.max(np.abs(bp.y - exact))) <= 1e-14
         assert bp.residual <= 1e-15
     # without deflation (Newton on the singular system) the same start stays ~1e-8 off: what deflation buys
-    from symkin.paths.events import refine_rank_drop
-    y_plain, converged = refine_rank_drop(curve, start, 1)
-    assert not converged and float(np.max(np.abs(y_plain - exact))) > 1e-12
+    plain = locate_branch_point(curve, start, max_deflations=0)
+    assert plain.deflations == 0 and float(np.max(np.abs(plain.y - exact))) > 1e-12
 
 
 @pytest.mark.parametrize("sign", [1.0, -1.0], ids=["T1", "T2"])

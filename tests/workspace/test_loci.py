@@ -370,7 +370,7 @@ def test_rotation_invariance():
 
 
 def test_im_candidates_are_strict_interior_minima():
-    from symkin.workspace.loci import _im_candidates
+    from symkin.workspace.im_points import im_candidates
 
     im = np.ones((5, 6))
     im[2, 3] = 0.1   # interior strict minimum: a candidate
@@ -379,7 +379,7 @@ def test_im_candidates_are_strict_interior_minima():
     asm = np.ones((5, 6), bool)
     asm[2, 0] = False
     grid = GridData(np.arange(6.0), np.arange(5.0), asm, im, im, im_indicator=im)
-    assert _im_candidates(grid) == [(2, 3)]
+    assert im_candidates(grid) == [(2, 3)]
 
 
 # ----------------------------------------------------------------------------------- IM minima through the quadtree
@@ -427,11 +427,11 @@ def test_fig14_slope_at_the_collapsed_rhombus_is_not_converged_and_refine_comple
     import symkin
     from symkin.errors import NotConvergedError
     from symkin.workspace.grid import continue_mode
-    from symkin.workspace.loci import LocusSystem, _Problems
+    from symkin.workspace.locus_problems import LocusProblems, LocusSystem
 
     mech = symkin.read_model(FIG14)
     s = map_system(mech, "velocity:P.x", "velocity:P.y")
-    pb = _Problems(LocusSystem.of(s))
+    pb = LocusProblems(LocusSystem.of(s))
     ev = s.evaluators
     q = {"x_B1": 0.0, "y_B1": 5.0, "x_B2": 0.0, "y_B2": -5.0, "x_P": 0.0, "y_P": 0.0}
     y = np.array([q[k] for k in ev.q_labels]) / pb.scale

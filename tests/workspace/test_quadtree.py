@@ -48,10 +48,13 @@ def test_dips_flag_a_double_zero_and_two_close_roots_not_a_valley_or_a_sign_chan
 
 # ----------------------------------------------------------------------------------- quadtree
 def _synthetic(f):
-    """A ``sample`` for :func:`quadtree.subdivide` whose "configuration" is the axis point itself."""
-    def sample(a, y0):
-        return np.array(a, float), float(f(np.asarray(a, float)))
-    return sample
+    """``solve``, ``value`` for :func:`quadtree.subdivide` whose "configuration" is the axis point itself."""
+    def solve(a, y0):
+        return np.array(a, float), np.ones(len(a), bool)
+
+    def value(y):
+        return np.array([f(np.asarray(row, float)) for row in y])
+    return solve, value
 
 
 @pytest.mark.parametrize("curve", ["small circle", "two close lines"])
@@ -79,9 +82,9 @@ def test_quadtree_finds_a_curve_narrower_than_a_cell_that_the_grid_misses(curve)
     assert all(v > 0 for v in grid)  # no sign change on the grid: it misses the curve
     a0 = np.zeros(2)
     # without subdivision (depth 0) the cells around the dip show nothing to locate
-    flat = quadtree.subdivide(_synthetic(f), a0, a0, f(a0), cell, lo, hi, depth=0)
+    flat = quadtree.subdivide(*_synthetic(f), a0, a0, f(a0), cell, lo, hi, depth=0)
     assert flat.crossings == []
-    deep = quadtree.subdivide(_synthetic(f), a0, a0, f(a0), cell, lo, hi)
+    deep = quadtree.subdivide(*_synthetic(f), a0, a0, f(a0), cell, lo, hi)
     fine = cell / 2 ** quadtree.DEPTH
     assert len(deep.crossings) >= 4
     for a_a, y_a, a_b, y_b in deep.crossings:
