@@ -46,9 +46,10 @@ on the paths it simulates; this module makes the search global:
 5. **Cross-check.**  The real solutions of step 1 must be exactly the traced configurations
    of the kinds they detect (DKP-input or IM; DKP-output or IM), each matched within
    ``same_configuration``.  Both counts are reported; a disagreement is a field
-   (``agree = False``, the unmatched configurations) and a warning, never silent.  The traces
-   locate no LIM events: a LIM system's traced side is its solutions that lie on a traced branch
-   (``traced_by = "branches"``).
+   (``agree = False``, the unmatched configurations) and a warning, never silent.  A LIM
+   system's traced side is the traced LIM events where its link is locked (and IM), located by
+   :func:`symkin.trace`'s per-link LIM tests (``traced_by = "events"``); where the traces locate
+   no LIM events it would be the system's solutions that lie on a traced branch (``"branches"``).
 
 **Beyond the homotopy.**  A square system whose homotopy would track more than ``max_paths``
 paths (its total degree, summed over the factors of the determinant) is solved exactly instead
@@ -422,8 +423,8 @@ def _entry_at(entries: list[dict], q: np.ndarray, same: float) -> dict | None:
 
 
 def _traces_locate_lim(search: CircuitSearch) -> bool:
-    """Whether :func:`symkin.trace` locates LIM events (not yet: the LIM configurations come from the systems)."""
-    return False
+    """Whether :func:`symkin.trace` locates LIM events: one test per moving link when F = 1 (``LIM:<link>``)."""
+    return search.mech.mobility_value == 1
 
 
 def _branch_through(mech: Mechanism, search: CircuitSearch, in_value: CoordinateValue, conf: dict) -> int | None:
