@@ -89,10 +89,8 @@ def _text(result) -> str:
             continue
         how = (f"exact, msolve, instead of a homotopy of {ch.paths} paths" if ch.solver == "msolve"
                else f"{ch.paths} paths")
-        traced = (f"{ch.traced} on the traced circuits (LIM events are not traced)" if ch.traced_by == "branches"
-                  else f"{ch.traced} traced {what}")
         lines.append(f"cross-check {ch.name}: {ch.homotopy} real solution(s) of closure + det = 0 "
-                     f"({how}), {traced}: " + ("agree" if ch.agree else "DISAGREE"))
+                     f"({how}), {ch.traced} traced {what}: " + ("agree" if ch.agree else "DISAGREE"))
     lines += [f"warning: {w}" for w in result.warnings]
     return "\n".join(lines)
 

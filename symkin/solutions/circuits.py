@@ -48,8 +48,7 @@ on the paths it simulates; this module makes the search global:
    ``same_configuration``.  Both counts are reported; a disagreement is a field
    (``agree = False``, the unmatched configurations) and a warning, never silent.  A LIM
    system's traced side is the traced LIM events where its link is locked (and IM), located by
-   :func:`symkin.trace`'s per-link LIM tests (``traced_by = "events"``); where the traces locate
-   no LIM events it would be the system's solutions that lie on a traced branch (``"branches"``).
+   :func:`symkin.trace`'s per-link LIM tests.
 
 **Beyond the homotopy.**  A square system whose homotopy would track more than ``max_paths``
 paths (its total degree, summed over the factors of the determinant) is solved exactly instead
@@ -334,24 +333,21 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     checks = []
     for sq in systems:
         if sq.kind == Kind.LIM:
-            traced, by = _traced_lim(mech, search, in_value, entries, roots.get(sq.name, ([],))[0], sq.link, same)
+            traced = _traced_lim(mech, entries, sq.link)
         else:
-            traced, by = [as_dict(mech, it["x"]) for it in entries
-                          if sq.kind in it["kinds"] or Kind.IM in it["kinds"]], "events"
-        common = dict(link=sq.link, traced_by=by)
+            traced = [as_dict(mech, it["x"]) for it in entries if sq.kind in it["kinds"] or Kind.IM in it["kinds"]]
         if sq.name in skipped:
             paths, degree, seconds, why = skipped[sq.name]
             checks.append(CrossCheck(sq.kind, sq.coordinate.label, 0, len(traced), 0, paths, degree, (), (), seconds,
-                                     skipped=why, **common))
+                                     skipped=why, link=sq.link))
             continue
         found, tracked, degree, seconds = roots[sq.name]
         checks.append(replace(compare(mech, sq.kind, sq.coordinate.label, found, traced, tracked, degree, seconds,
-                                      scale, tolerances), solver=solvers.get(sq.name, "bertini"), **common))
+                                      scale, tolerances), solver=solvers.get(sq.name, "bertini"), link=sq.link))
     for ch in checks:
         if ch.agree is False:
-            what = f"{ch.name}/IM configuration(s)" if ch.kind != Kind.LIM else \
-                f"configuration(s) where {ch.link} is locked, or IM" + (" on the traced branches"
-                                                                          if ch.traced_by == "branches" else "")
+            what = (f"{ch.name}/IM configuration(s)" if ch.kind != Kind.LIM
+                    else f"configuration(s) where {ch.link} is locked, or IM")
             _warn(notes, f"{mech.name}: the square {ch.name} system has {ch.homotopy} real solution(s), the traced "
                          f"circuits {ch.traced} {what}; {len(ch.unmatched_homotopy)} found only by the homotopy, "
                          f"{len(ch.unmatched_traced)} only by the traces")
@@ -403,28 +399,16 @@ def _warn(notes: list[str], msg: str) -> None:
     warnings.warn(msg, SingularitiesWarning, stacklevel=3)
 
 
-def _traced_lim(mech: Mechanism, search: CircuitSearch, in_value: CoordinateValue, entries: list[dict],
-                found: list[dict], link: str, same: float) -> tuple[list, str]:
-    """The traced side of a LIM check: the traced configurations where ``link`` is locked (or IM) when the
-    traces locate LIM events, else the LIM system's solutions that lie on a traced branch: at a traced
-    configuration (within ``same``; a turning point of the input, where a branch touches the input value
-    without crossing it) or where a traced branch crosses their input value."""
-    if _traces_locate_lim(search):
-        return [as_dict(mech, it["x"]) for it in entries if Kind.IM in it["kinds"] or (
-            Kind.LIM in it["kinds"] and it["analysis"] is not None and link in it["analysis"].locked_links)], "events"
-    on = [conf for conf in found if _entry_at(entries, free_coordinates(mech, conf), same) is not None
-          or _branch_through(mech, search, in_value, conf) is not None]
-    return on, "branches"
+def _traced_lim(mech: Mechanism, entries: list[dict], link: str) -> list[dict]:
+    """The traced side of a LIM check: the traced configurations where ``link`` is locked, located as LIM
+    events by :func:`symkin.trace` (its per-link LIM tests, F = 1), and the IM ones."""
+    return [as_dict(mech, it["x"]) for it in entries if Kind.IM in it["kinds"] or (
+        Kind.LIM in it["kinds"] and it["analysis"] is not None and link in it["analysis"].locked_links)]
 
 
 def _entry_at(entries: list[dict], q: np.ndarray, same: float) -> dict | None:
     """The first configuration of ``entries`` within ``same`` of the free coordinates ``q``, or None."""
     return next((it for it in entries if float(np.linalg.norm(it["q"] - q)) <= same), None)
-
-
-def _traces_locate_lim(search: CircuitSearch) -> bool:
-    """Whether :func:`symkin.trace` locates LIM events: one test per moving link when F = 1 (``LIM:<link>``)."""
-    return search.mech.mobility_value == 1
 
 
 def _branch_through(mech: Mechanism, search: CircuitSearch, in_value: CoordinateValue, conf: dict) -> int | None:

@@ -126,10 +126,7 @@ class CrossCheck:
     ``kind`` is ``DKP-input``, ``DKP-output`` or ``LIM`` (the system of ``link``'s rotation,
     :mod:`symkin.solutions.lim_systems`; :attr:`name` ``"LIM:<link>"``).
     ``homotopy`` counts its distinct real solutions, ``traced`` the traced configurations whose
-    kinds it detects (``kind`` or IM; for LIM, where ``link`` is locked); ``traced_by`` says how
-    the traced side was found: ``"events"`` (located along the traces) or ``"branches"`` (the
-    trace has no LIM events: the system's solutions that lie on a traced branch are the traced
-    side, so the check says that every LIM configuration is on a traced circuit);
+    kinds it detects (``kind`` or IM; for LIM, the traced LIM events where ``link`` is locked);
     ``unmatched_homotopy`` / ``unmatched_traced`` the
     configurations found by one side only.  ``paths`` is the number of homotopy paths (tracked,
     or that would have been tracked when the system was solved exactly or not at all).
@@ -151,7 +148,6 @@ class CrossCheck:
     skipped: str = ""
     solver: str = "bertini"
     link: str = ""
-    traced_by: str = "events"
 
     @property
     def name(self) -> str:
@@ -166,7 +162,7 @@ class CrossCheck:
         return not self.unmatched_homotopy and not self.unmatched_traced
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "name": self.name, "link": self.link or None, "traced_by": self.traced_by,
+        return {"kind": self.kind, "name": self.name, "link": self.link or None,
                 "label": self.label, "homotopy": self.homotopy, "traced": self.traced,
                 "matched": self.matched, "agree": self.agree, "paths": self.paths, "degree": self.degree,
                 "skipped": self.skipped, "solver": self.solver,
