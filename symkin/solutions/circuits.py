@@ -33,7 +33,7 @@ on the paths it simulates; this module makes the search global:
    continuation may go on along either branch; the half-branches make the search
    complete whichever it took, and the answer independent of it.
 4. **Singular configurations and circuits.**  Every event that the traces locate (DKP-input,
-   DKP-output, IM), classified by :func:`symkin.analyze`, and every real solution of a LIM system
+   DKP-output, IM, LIM), classified by :func:`symkin.analyze`, and every real solution of a LIM system
    (kind ``LIM``: it joins the configuration at the same place, or is listed on the traced branch
    through it); one configuration met by several
    branches is one entry, and every IM event at a located branch point is that point (an IM

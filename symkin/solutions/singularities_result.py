@@ -44,8 +44,8 @@ class SingularConfiguration:
         The input and output coordinates, measured from the model's configuration
         (angles in ``unit``, in (−180°, 180°] / (−π, π]; lengths in model units); output None without one.
     kinds : tuple of str
-        What located it: the trace's test functions (``DKP-input``, ``DKP-output``, ``IM``) and
-        ``LIM`` for a real solution of a link's LIM system (:mod:`symkin.solutions.lim_systems`).
+        What located it: the trace's test functions (``DKP-input``, ``DKP-output``, ``IM``, ``LIM``)
+        and ``LIM`` for a real solution of a link's LIM system (:mod:`symkin.solutions.lim_systems`).
     arclength : float
         Its arclength along the first branch that located it (for a plot without an output).
     locked_links : tuple of str

@@ -241,8 +241,12 @@ def test_the_two_tangent_contacts_with_the_lim_branch_exactly(cli_json, butterfl
             assert np.linalg.norm(np.array(s["configuration"][n]) - x[n]) <= 1e-12 * scale
         # four half-branches leave each contact: the two traced loops and the LIM branch pass through it
         assert len(s["branches"]) >= 2
-    # nothing else: every singular configuration is a turning point or a contact
-    assert len(cli_json["singularities"]) == len(im) + sum("DKP-input" in s["types"] for s in cli_json["singularities"])
+    # nothing else but the traced LIM events (a link that stops while the rest moves, L = 1): every
+    # singular configuration is a turning point, a contact or a LIM
+    lim = [s for s in cli_json["singularities"] if s["types"] == ["LIM"]]
+    assert all(s["dof"] == 1 and s["locked_links"] and "LIM" in s["kinds"] for s in lim)
+    assert len(cli_json["singularities"]) == len(im) + len(lim) + sum("DKP-input" in s["types"]
+                                                                      for s in cli_json["singularities"])
 
 
 @pytest.mark.slow
@@ -259,9 +263,11 @@ def test_circuits_and_the_cross_check_report(cli_json, turning, butterfly):
     im_circuits = {s["circuit"] for s in cli_json["singularities"] if "IM" in s["types"]}
     assert len(im_circuits) == 1
     oval = [s for s in cli_json["singularities"] if s["circuit"] not in im_circuits]
-    assert len(oval) == 4 and all(s["types"] == ["DKP-input", "LIM"] for s in oval)
+    turning_oval = [s for s in oval if "DKP-input" in s["types"]]
+    assert len(turning_oval) == 4 and all(s["types"] == ["DKP-input", "LIM"] for s in turning_oval)
+    assert all(s["types"] == ["LIM"] and s["locked_links"] for s in oval if s not in turning_oval)
     enumerated = [wrap_deg(math.degrees(t - butterfly.theta_s)) for t in turning]
-    for s in oval:
+    for s in turning_oval:
         assert min(abs(wrap_deg(s["input"] - e)) for e in enumerated) <= 1e-9
     assert 0.0 < min(s["input"] for s in oval)  # the oval's crank range excludes the model's input 0
     check, *lim = cli_json["cross_check"]
