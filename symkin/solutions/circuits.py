@@ -222,8 +222,8 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
                 roots[name] = ([], 0, 0, time.perf_counter() - t0)  # the link turns without stopping: never locked
             else:
                 skipped[name] = (0, 0, time.perf_counter() - t0, str(exc))
-                _warn(notes, f"{mech.name}: the square {name} system is not available ({exc}): the configurations "
-                             f"where {sq.link} is locked are NOT searched")
+                _warn(notes, f"{mech.name}: the square {name} system is not available ({exc}): the traced "
+                             f"configurations where {sq.link} is locked (LIM) are NOT cross-checked")
             continue
         paths = sum(total_degree(list(e), list(system.unknowns)) for e in system.systems())
         if paths > max_paths:
@@ -235,7 +235,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
             why = f"{paths} paths > max_paths = {max_paths}; exact: {by_msolve}"
             skipped[name] = (paths, system.degree, time.perf_counter() - t0, why)
             if sq.kind == Kind.LIM:
-                what = (f"the configurations where {sq.link} is locked (LIM) are NOT searched"
+                what = (f"the traced configurations where {sq.link} is locked (LIM) are NOT cross-checked"
                         + (" (a system that is not zero-dimensional: the link may be locked along a whole branch)"
                            if "not zero-dimensional" in by_msolve else ""))
             else:
@@ -255,7 +255,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
     # 2-3. seeds (solve_all between consecutive critical input values), the branches through them and
     # through every half-branch of every vertex
     search = CircuitSearch(mech, tolerances, in_value, kind, max_turns if kind == "angle" else 1, max_arclength,
-                     drive.label, unit, notes, progress)
+                           drive.label, unit, notes, progress)
     exact = Kind.DKP_INPUT in roots
     sampled: list[float] = []
     seeds = 0

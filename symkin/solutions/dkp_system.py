@@ -317,7 +317,8 @@ def polish(equations: tuple, unknowns: tuple, v: np.ndarray, max_iterations: int
     """Gauss–Newton on the square system ``equations = 0`` from ``v``; returns the point and its largest residual.
 
     The one corrector, :func:`symkin.curves.corrector.gauss_newton`, in the max-norm, to
-    :data:`POLISH_TARGET` (the best point seen when it does not get there).
+    :data:`POLISH_TARGET` or a step below :data:`POLISH_STEP` (the best point seen when it does
+    not get there), without stopping early at a floor.
 
     >>> import sympy as sp
     >>> x, y = sp.symbols("x y")
@@ -326,7 +327,9 @@ def polish(equations: tuple, unknowns: tuple, v: np.ndarray, max_iterations: int
     ([0.707106781187, 0.707106781187], True)
     """
     f, j = _compiled(equations, unknowns)
-    c = gauss_newton(lambda z: (f(z), j(z)), np.asarray(v, float), tol=POLISH_TARGET,
+    # floor=0: no acceptance at a floor; at a singular root (an IM point, where the residual is the
+    # square of the distance) it goes on converging linearly to the target or the last step, as polished roots must
+    c = gauss_newton(lambda z: (f(z), j(z)), np.asarray(v, float), tol=POLISH_TARGET, floor=0.0,
                      max_iterations=max_iterations, step_tol=POLISH_STEP, norm="max")
     return c.z, c.residual
 
