@@ -150,8 +150,8 @@ def _newton(f, jac, u: np.ndarray, max_iterations: int = 30) -> tuple[np.ndarray
     equations from ``u``; returns the point (the best one seen when it does not converge) and its residual."""
     if not u.size:
         return u, 0.0
-    c = gauss_newton(lambda z: (f(z), jac(z)), u, tol=NEWTON_TARGET, max_iterations=max_iterations, floor=0.0,
-                     step_tol=NEWTON_STEP, norm="max")  # floor=0: on to the target at a singular root too
+    c = gauss_newton(lambda z: (f(z), jac(z)), u, tol=NEWTON_TARGET, max_iterations=max_iterations,
+                     step_tol=NEWTON_STEP, norm="max")
     return c.z, c.residual
 
 
