@@ -32,6 +32,10 @@ __all__ = ["CircuitSearch", "MAX_ANGLE_STEP", "RETURNED", "components"]
 MAX_ANGLE_STEP = math.radians(2.0)
 #: stop reason of a branch cut where it passes a branch point a second time in the same direction
 RETURNED = "returned"
+#: a branch passes a branch point "in the same direction" again when the cosine of its two tangents there is at
+#: least this: along the same half-branch (a tangent contact passed again), not along the other branch that
+#: crosses there at an angle (the change-point four-bar's one branch, which crosses itself at its flat IM point)
+RETURN_COSINE = 0.999
 
 
 def _path_inputs(path: Path, offset: float) -> np.ndarray:
@@ -260,7 +264,7 @@ class CircuitSearch:
             k = self.event_vertex.get((index, e_index))
             if k is None or e.t is None:
                 continue
-            if k in seen and float(seen[k] @ e.t) > 0:
+            if k in seen and _cosine(seen[k], e.t) >= RETURN_COSINE:
                 cut = e.s
                 kept = tuple(ev for ev in path.events if ev.s <= cut and ev.kind != "end")
                 message = (f"the path came back to the branch point at {self.label} = "
@@ -318,6 +322,10 @@ class CircuitSearch:
             values += [self.in_value(e.coordinates) for e in p.singular_events()
                        if e.analysis is not None and Kind.DKP_INPUT in e.analysis.types]
         return cluster([wrap(v, self.kind) for v in values], self.tol.same_configuration)
+
+
+def _cosine(a: np.ndarray, b: np.ndarray) -> float:
+    return float(a @ b) / max(float(np.linalg.norm(a) * np.linalg.norm(b)), 1e-300)
 
 
 def _half_branch_radius(mech: Mechanism) -> float:
