@@ -6,16 +6,21 @@ their output and turns user errors into ``file: message`` with exit code 2.
 
 Exit codes: 0 success; 1 the command ran but found a failure it reports (e.g. a paper
 claim that does not hold); 2 a user error (bad file, bad option); 3 an internal error
-(a bug: the traceback is printed so it can be reported).
+(a bug: the traceback is printed so it can be reported); 130 interrupted (SIGINT, one
+line; also when the interrupt surfaced wrapped in another exception, or was swallowed).
 """
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
 import traceback
+import warnings
 
 from symkin.commands import COMMANDS, Output
+from symkin import errors
 from symkin.errors import ModelError, ModelFileError, SymkinError
 
 __all__ = ["main", "build_parser"]
@@ -52,18 +57,67 @@ def _format_error(exc: SymkinError) -> str:
     return str(exc)
 
 
+def _one_line(message, category, filename, lineno, line=None) -> str:
+    """A warning as the user reads it: one line, no source location."""
+    return f"{category.__name__}: {message}\n"
+
+
+def _on_sigint(signum, frame):
+    """Ctrl-C: remember it (code that swallows the exception cannot hide it) and raise."""
+    if errors.note_interrupt():
+        raise KeyboardInterrupt
+
+
+def _interrupted() -> int:
+    print("symkin: interrupted", file=sys.stderr)
+    return 130
+
+
 def main(argv: list[str] | None = None) -> int:
+    errors.clear_interrupt()
+    try:  # first of all: a Ctrl-C while the command modules load is an interrupt too
+        previous = signal.signal(signal.SIGINT, _on_sigint)
+    except ValueError:  # not the main thread: keep Python's handler
+        previous = None
+    shown = warnings.formatwarning
+    warnings.formatwarning = _one_line
+    try:
+        code = _main(argv)
+    except KeyboardInterrupt:
+        code = _interrupted()
+    finally:
+        warnings.formatwarning = shown
+        if previous is not None:
+            # the program (argv None) has done its work and picked its exit code: a late
+            # Ctrl-C no longer changes it; called from Python, the caller's handler comes back
+            signal.signal(signal.SIGINT, signal.SIG_IGN if argv is None else previous)
+    if code == 130 and argv is None:
+        # the program was interrupted and has cleaned up: exit now with 130.  (CPython kills
+        # itself with SIGINT at exit when an interrupt once passed through code run by an
+        # extension's PyRun_String, although it was caught: exit code -2 instead of 130.)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(130)
+    return code
+
+
+def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         out: Output = args._run(args)
+        if errors.interrupt_seen():  # interrupted, and some code swallowed the exception
+            return _interrupted()
+    except KeyboardInterrupt:
+        return _interrupted()
     except SymkinError as exc:
+        if errors.interrupt_seen() or errors.caused_by_interrupt(exc):
+            return _interrupted()
         print(_format_error(exc), file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("symkin: interrupted", file=sys.stderr)
-        return 130
-    except Exception:  # a bug, not a user error: show it so it can be reported
+    except Exception as exc:  # a bug, not a user error: show it so it can be reported
+        if errors.interrupt_seen() or errors.caused_by_interrupt(exc):  # an interrupt inside C code
+            return _interrupted()
         traceback.print_exc()
         print("symkin: internal error (this is a bug; please report it with the traceback above)",
               file=sys.stderr)

@@ -96,6 +96,18 @@ def _statics_sentences(a) -> list[str]:
     return out
 
 
+#: what each decision compares with its threshold
+_DECIDED = {"rank": "rank of the constraint matrix", "IM": "IM: (F+1)-th smallest singular value",
+            "DKP-input": "DKP-input: min(F, k)-th singular value of the restricted inputs",
+            "DKP-output": "DKP-output: min(F, k)-th singular value of the restricted outputs"}
+
+
+def _decision(name: str, value: float, threshold: float, margin: float) -> str:
+    side = "above" if value > threshold else "below"
+    times = "∞" if margin == float("inf") else f"{margin:.3g}"
+    return f"{_DECIDED.get(name, name)} {value:.3g}, {side} {threshold:.3g}: ×{times}"
+
+
 def _sentences(a) -> list[str]:
     out = _structure_sentences(a) if a.structure else _mechanism_sentences(a)
     if a.platform is not None:
@@ -126,6 +138,13 @@ def _sentences(a) -> list[str]:
     margin = "∞" if a.margin is None or a.margin == float("inf") else f"{a.margin:.3g}"
     out.append(f"Decision: singular values of the constraint matrix (smallest first) {sv}; "
                f"zero below {a.threshold:.3g} (tolerance {a.tolerance:g} × largest); margin ×{margin}.")
+    if a.dkp_input is not None or a.dkp_output is not None:
+        values = [f"{side} {v:+.6g}" for side, v in (("input", a.dkp_input), ("output", a.dkp_output))
+                  if v is not None]
+        out.append("DKP values (signed; they change sign through a DKP configuration): " + ", ".join(values) + ".")
+    if getattr(a, "decisions", ()):
+        out.append("Margins of the decisions (value / threshold, or threshold / value for a zero): "
+                   + "; ".join(_decision(*d) for d in a.decisions) + ".")
     out += _statics_sentences(a)
     out += [f"Warning: {w}" for w in a.warnings]
     return out

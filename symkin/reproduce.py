@@ -11,14 +11,20 @@ from __future__ import annotations
 import importlib.util
 import json
 import math
+import os
 import re
+import shutil
 import sys
+import tempfile
 import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Claim", "Checklist", "find_examples_dir", "discover", "run_check", "run_all", "file_slug"]
+from symkin.errors import check_interrupt, interrupts_deferred
+
+__all__ = ["Claim", "Checklist", "find_examples_dir", "discover", "run_check", "run_all", "write_report",
+           "file_slug"]
 
 
 @dataclass(frozen=True)
@@ -161,36 +167,71 @@ def run_check(script: Path) -> Checklist:
 
 
 def _run_guarded(script: Path) -> Checklist:
-    """Run one check; a script that raises becomes a failed claim instead of stopping the run."""
+    """Run one check; a script that raises becomes a failed claim instead of stopping the run.
+
+    An interrupt is never a failed claim: a :class:`KeyboardInterrupt`, an exception that
+    wraps one (CasADi's ``SystemError ... returned a result with an exception set``), or
+    any result obtained after a SIGINT arrived, stops the run.
+    """
     try:
-        return run_check(script)
+        result = run_check(script)
     except Exception as exc:  # noqa: BLE001 - any failure of an example is reported, not raised
+        check_interrupt(exc)
         failed = Checklist(Path(script).stem.removeprefix("check_"))
         failed.true(f"{Path(script).name} runs to the end", False, f"{type(exc).__name__}: {exc}")
         return failed
+    check_interrupt()
+    return result
 
 
 def run_all(examples_dir: Path, out: Path | None = None) -> list[Checklist]:
-    """Run every check; with ``out``, write ``summary.md``, ``summary.json`` and one JSON per analysis."""
-    from symkin.report import render_markdown
+    """Run every check; with ``out``, write ``summary.md``, ``summary.json`` and one JSON per analysis.
 
+    The report is written into a temporary folder beside ``out`` and its files moved into
+    ``out`` with ``os.replace`` (``summary.md`` last) once every check has run: an
+    interrupted run leaves the files of ``out`` as they were.
+    """
     results = [_run_guarded(s) for s in discover(examples_dir)]
     if out is not None:
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        summary, taken = [], {"summary"}
-        md = ["# symkin reproduce: the paper's examples", ""]
-        for res in results:
-            summary.append({"example": res.example, "ok": res.ok,
-                            "claims": [c.__dict__ for c in res.claims]})
-            md += [f"## {res.example}: {'all claims hold' if res.ok else 'SOME CLAIMS FAIL'}", ""]
-            md += [f"- {'✔' if c.holds else '✘'} {c.statement} — measured {c.measured}" for c in res.claims]
-            md.append("")
-            for label, analysis in res.analyses.items():
-                stem = _unique(f"{file_slug(res.example)}__{file_slug(label)}", taken)
-                text = json.dumps(analysis.to_dict(), indent=2) + "\n"
-                (out / f"{stem}.json").write_text(text, encoding="utf-8")
-                md += [f"### {label}", "", f"(`{stem}.json`)", "", render_markdown(analysis), ""]
-        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-        (out / "summary.md").write_text("\n".join(md) + "\n", encoding="utf-8")
+        write_report(results, Path(out))
     return results
+
+
+def _report_files(results: list[Checklist]) -> dict[str, str]:
+    from symkin.report import render_markdown
+
+    files: dict[str, str] = {}
+    summary, taken = [], {"summary"}
+    md = ["# symkin reproduce: the paper's examples", ""]
+    for res in results:
+        summary.append({"example": res.example, "ok": res.ok,
+                        "claims": [c.__dict__ for c in res.claims]})
+        md += [f"## {res.example}: {'all claims hold' if res.ok else 'SOME CLAIMS FAIL'}", ""]
+        md += [f"- {'✔' if c.holds else '✘'} {c.statement} — measured {c.measured}" for c in res.claims]
+        md.append("")
+        for label, analysis in res.analyses.items():
+            stem = _unique(f"{file_slug(res.example)}__{file_slug(label)}", taken)
+            files[f"{stem}.json"] = json.dumps(analysis.to_dict(), indent=2) + "\n"
+            md += [f"### {label}", "", f"(`{stem}.json`)", "", render_markdown(analysis), ""]
+    files["summary.json"] = json.dumps(summary, indent=2) + "\n"
+    files["summary.md"] = "\n".join(md) + "\n"
+    return files
+
+
+def write_report(results: list[Checklist], out: Path) -> Path:
+    """Write the report folder of ``results`` into ``out``, each file replaced whole (see :func:`run_all`)."""
+    out = Path(out)
+    files = _report_files(results)
+    check_interrupt()
+    out.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    try:
+        for name, text in files.items():
+            (staging / name).write_text(text, encoding="utf-8")
+        check_interrupt()
+        with interrupts_deferred():  # the files are moved in together or not at all
+            for name in sorted(files, key=lambda n: n == "summary.md"):
+                os.replace(staging / name, out / name)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return out

@@ -97,6 +97,11 @@ class Analysis:
     redundant_constraints: int = 0
     self_stresses: tuple[Relation, ...] = ()
     warnings: tuple[str, ...] = ()
+    #: every decision made, as ``(name, deciding value, threshold, margin)``: ``rank`` (the
+    #: constraint matrix), ``IM`` (its (F+1)-th smallest singular value), ``DKP-input`` and
+    #: ``DKP-output`` (the min(F, k)-th singular value of the restricted rows, eq. 12, 16);
+    #: the margin is how many times the value is above (or below) the threshold
+    decisions: tuple[tuple[str, float, float, float], ...] = ()
 
     @classmethod
     def _of(cls, **fields) -> "Analysis":
@@ -150,6 +155,8 @@ class Analysis:
             "redundant_constraints": self.redundant_constraints,
             "self_stresses": rels(self.self_stresses),
             "warnings": list(self.warnings),
+            "decisions": [{"decision": n, "value": v, "threshold": th,
+                           "margin": m if math.isfinite(m) else None} for n, v, th, m in self.decisions],
         }
 
 
@@ -352,6 +359,17 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         below = ms.threshold / s[L - 1] if L > 0 and s[L - 1] > ms.threshold * 1e-300 else math.inf
         margin = float(min(above, below))
 
+    decisions = []
+    if margin is not None:
+        decisions.append(("rank", float(s[L]) if L < s.size else 0.0, float(ms.threshold), margin))
+        if f < s.size and ms.threshold > 0:
+            decisions.append(("IM", float(s[f]), float(ms.threshold), _margin(float(s[f]), float(ms.threshold))))
+    for name, ranked, k in ((Kind.DKP_INPUT, rk_in, k_in), (Kind.DKP_OUTPUT, rk_out, k_out)):
+        m = min(f, k)
+        if k and m > 0 and t > 0:
+            value = float(ranked.s[m - 1]) if m <= ranked.s.size else 0.0
+            decisions.append((str(name), value, float(t), _margin(value, float(t))))
+
     statics = self_stresses(mech, tolerances, ms)
     warnings = topology_warnings(mech)
     if (w := mobility_warning(mech, L)) is not None:
@@ -370,7 +388,14 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
         tolerance=t, threshold=float(ms.threshold), margin=margin,
         gosselin_angeles=ga, zlatanov=tuple(zl), motion=ms,
         redundant_constraints=statics.redundant_constraints, self_stresses=statics.self_stresses,
-        warnings=warnings)
+        warnings=warnings, decisions=tuple(decisions))
+
+
+def _margin(value: float, threshold: float) -> float:
+    """How many times ``value`` is above ``threshold``, or below it (∞ for an exact zero)."""
+    if value > threshold:
+        return value / threshold
+    return threshold / value if value > 0 else math.inf
 
 
 _TWISTS: dict = {}

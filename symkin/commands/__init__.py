@@ -7,13 +7,18 @@ its name to ``COMMANDS`` to add a subcommand.
 """
 from __future__ import annotations
 
+import os
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
 
-from symkin.errors import ModelError, SymkinError
+from symkin.errors import ModelError, SymkinError, check_interrupt, interrupts_deferred
 
-__all__ = ["COMMANDS", "Output", "in_file"]
+__all__ = ["COMMANDS", "Output", "in_file", "write_output", "finite_number", "positive_number",
+           "non_negative_number", "check_holds", "check_output_folder"]
 
-COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen"]
+COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen", "cache"]
 
 
 @dataclass(frozen=True)
@@ -38,3 +43,98 @@ def in_file(exc: SymkinError, model: str) -> SymkinError:
     elif not str(exc).startswith(f"{model}: "):
         exc.args = (f"{model}: {exc}",) + tuple(exc.args[1:])
     return exc
+
+
+def write_output(target, write: Callable[[Path], object]) -> Path:
+    """Write an output file whole or not at all: ``write(tmp)`` fills a temporary file in the
+    target's folder, which then replaces ``target`` with ``os.replace``.
+
+    An interrupt (or any error) before the replacement leaves ``target`` as it was and
+    removes the temporary file.
+    """
+    target = Path(target)
+    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    os.close(fd)
+    tmp = Path(name)
+    _readable(tmp)
+    try:
+        write(tmp)
+        check_interrupt()
+        with interrupts_deferred():
+            os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return target
+
+
+def _readable(path: Path) -> None:
+    """Give a temporary file (``mkstemp``: mode 0600) the mode a new file gets under the umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(path, 0o666 & ~mask)
+
+
+# ---------------------------------------------------------------------- numbers a user types
+def _number(text: str, what: str, test, ok: str) -> float:
+    import argparse
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not math.isfinite(value) or not test(value):
+        raise argparse.ArgumentTypeError(f"{text!r}: {what} must be {ok}")
+    return value
+
+
+def finite_number(text: str) -> float:
+    """An argparse type: a finite number (``nan``, ``inf`` and overflowing values are refused)."""
+    return _number(text, "the value", lambda v: True, "a finite number")
+
+
+def positive_number(text: str) -> float:
+    """An argparse type: a finite number > 0."""
+    return _number(text, "the value", lambda v: v > 0, "a finite number greater than 0")
+
+
+def non_negative_number(text: str) -> float:
+    """An argparse type: a finite number >= 0."""
+    return _number(text, "the value", lambda v: v >= 0, "a finite number, 0 or more")
+
+
+def check_holds(holds, option: str = "--hold") -> None:
+    """Every ``LABEL=VALUE`` of ``holds`` has a finite VALUE (``LABEL`` alone: the model's value)."""
+    import math
+
+    for text in holds:
+        label, eq, value = str(text).rpartition("=")
+        if not eq:
+            continue
+        try:
+            number = float(value)
+        except ValueError:
+            raise SymkinError(f"{option} {text!r}: VALUE must be a number") from None
+        if not math.isfinite(number):
+            raise SymkinError(f"{option} {text!r}: VALUE must be a finite number")
+
+
+def check_output_folder(path, option: str) -> Path:
+    """The folder ``path`` (created if needed) or a :class:`SymkinError` saying why it cannot be written."""
+    folder = Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise SymkinError(f"{option} {folder}: cannot create the folder ({exc.strerror or exc})") from None
+    if not folder.is_dir():
+        raise SymkinError(f"{option} {folder}: exists and is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise SymkinError(f"{option} {folder}: the folder is not writable")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".symkin-probe-", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise SymkinError(f"{option} {folder}: cannot write into the folder ({exc.strerror or exc})") from None
+    return folder

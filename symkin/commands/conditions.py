@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import json
 
-from symkin.commands import Output
+from symkin.commands import Output, check_holds, non_negative_number
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -33,7 +33,7 @@ def add_arguments(p) -> None:
     p.add_argument("--design-symbols", action="store_true",
                    help="keep lengths (and internal angles of bodies) as symbols l_<link>, beta_<body>_<i>_<j>")
     p.add_argument("--latex", action="store_true", help="print each condition in LaTeX")
-    p.add_argument("--time-limit", type=float, default=120.0, metavar="SECONDS",
+    p.add_argument("--time-limit", type=non_negative_number, default=120.0, metavar="SECONDS",
                    help="give up on a condition after this many seconds (default 120; 0 = no limit)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--in", dest="variables", metavar="LABEL_X,LABEL_Y", default=None,
@@ -108,6 +108,7 @@ def run(args) -> Output:
 def _run_loci(args, mech) -> Output:
     from symkin.symbolic.loci import implicit_loci
 
+    check_holds(args.hold)
     labels = [t.strip() for t in str(args.variables).split(",") if t.strip()]
     if len(labels) != 2:
         raise SymkinError(f"{args.model}: --in needs two labels LABEL_X,LABEL_Y, got {args.variables!r}")

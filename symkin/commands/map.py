@@ -6,9 +6,8 @@ import json
 import sys
 from pathlib import Path
 
-from symkin.commands import Output
+from symkin.commands import Output, check_holds, in_file, write_output
 from symkin.commands.analyze import tolerance
-from symkin.commands import in_file
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
@@ -52,6 +51,95 @@ def add_arguments(p) -> None:
     par.add_argument("--workers", type=_count, default=None, help="run on a local Dask cluster of N workers")
     par.add_argument("--scheduler", metavar="ADDRESS", default=None, help="run on an existing Dask scheduler")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on the terminal")
+
+
+#: the share of available memory a map may plan to use
+MEMORY_SHARE = 0.5
+#: a length axis must overlap what the mechanism can reach by at least this share of the box
+MIN_REACHABLE = 1e-3
+
+
+def _available_memory() -> int:
+    """Bytes of memory available to this process (MemAvailable on Linux, else physical memory)."""
+    import os
+
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return 8 << 30
+
+
+def memory_estimate(mech, n: int, modes: int) -> int:
+    """Bytes a map of ``n`` × ``n`` points and ``modes`` modes holds: per point and mode the grid
+    arrays (six), the configuration (free coordinates) and as much again for the work in progress."""
+    free = len(mech.free_nodes) * mech.dim
+    per_point = 8 * (6 + free)
+    return 2 * n * n * max(modes, 1) * per_point
+
+
+def _reach(mech) -> float:
+    """A bound on any node coordinate the mechanism can reach (model units): the largest
+    coordinate plus, per link, twice its largest distance from its first node."""
+    import math
+
+    coords = mech.coordinates()
+    top = max((abs(c) for p in coords.values() for c in p), default=0.0)
+    spread = 0.0
+    for _, ns in mech.links:
+        p0 = coords[ns[0]]
+        spread += 2 * max(math.dist(p0, coords[n]) for n in ns)
+    return top + spread
+
+
+def _check_box(args, mech) -> None:
+    """Refuse what cannot be mapped before any work: overflowing or needless windows, a grid too large."""
+    import math
+
+    from symkin.model.labels import parse_label
+    from symkin.workspace.grid import parse_axis
+
+    reachable, reach = 1.0, _reach(mech)
+    turn = 360.0 if args.unit == "deg" else 2 * math.pi
+    for option, text in (("--x", args.x), ("--y", args.y)):
+        for part in str(text).rpartition("=")[2].split(":"):
+            try:
+                if not math.isfinite(float(part)):
+                    raise SymkinError(f"{option} {text!r}: LO and HI must be finite numbers, got {part!r}")
+            except ValueError:
+                pass  # parse_axis says what is wrong
+        label, lo, hi = parse_axis(text, option)
+        if not math.isfinite(hi - lo):
+            raise SymkinError(f"{option} {text!r}: the window's width overflows; give LO and HI of finite difference")
+        try:
+            kind = parse_label(mech, label, what="axis", lead="a map axis can be").kind
+        except SymkinError:
+            continue  # the map names the unknown label, with what it accepts
+        if kind == "angle":
+            if hi - lo > 2 * turn:
+                raise SymkinError(f"{option} {text!r}: an angle window wider than two turns "
+                                  f"({2 * turn:g} {args.unit}) repeats itself; give at most one turn")
+            continue
+        bound = 2 * reach
+        overlap = max(0.0, min(hi, bound) - max(lo, -bound))
+        reachable *= overlap / (hi - lo)
+        if overlap == 0.0 or reachable < MIN_REACHABLE:
+            raise SymkinError(f"{option} {text!r}: the box is far larger than the mechanism: no coordinate it "
+                              f"reaches exceeds {bound:.3g} (model units), so at most "
+                              f"{100 * reachable:.2g}% of the box can assemble; give a window within "
+                              f"±{bound:.3g}")
+    modes = 1 + len(args.seed) if args.modes == "model" else 8
+    need, have = memory_estimate(mech, args.n, modes), _available_memory()
+    if need > MEMORY_SHARE * have:
+        raise SymkinError(f"--n {args.n}: the map would hold about {need / 2**30:.3g} GiB "
+                          f"({args.n}² points × {modes} mode(s)), more than {MEMORY_SHARE:.0%} of the "
+                          f"{have / 2**30:.3g} GiB of memory available; give a smaller --n")
 
 
 def _progress(enabled: bool, total: int):
@@ -101,6 +189,11 @@ def run(args) -> Output:
         require_matplotlib("--plot")  # before the map is computed
     if args.n < 2:
         raise SymkinError(f"{args.model}: --n {args.n}: the number of grid points per axis must be at least 2")
+    try:
+        check_holds(args.hold)
+        _check_box(args, mech)
+    except SymkinError as exc:
+        raise in_file(exc, args.model)
     bar = _progress(not args.no_progress and args.json != "-", args.n * args.n * (1 + len(args.seed)))
     try:
         # --workers N: a local Dask cluster for this run, closed afterwards; --scheduler: an existing one
@@ -115,16 +208,13 @@ def run(args) -> Output:
             bar.close()
     notes = []
     if args.npz:
-        notes.append(f"arrays written to {m.save(args.npz)}")
+        notes.append(f"arrays written to {write_output(args.npz, m.save)}")
     if args.plot:
         notes.append(_plot(m, args.plot, mech))
     if args.json is not None:
         text = json.dumps(m.to_dict(), indent=1)
         if args.json == "-":
             return Output(text, message="\n".join(notes))
-        target = Path(args.json)
-        tmp = target.with_name(target.name + ".tmp")
-        tmp.write_text(text + "\n")
-        tmp.replace(target)
+        target = write_output(args.json, lambda tmp: tmp.write_text(text + "\n"))
         notes.append(f"map written to {target}")
     return Output(_text(m), message="\n".join(notes))

@@ -7,7 +7,7 @@ import json
 import math
 import sys
 
-from symkin.commands import Output, in_file
+from symkin.commands import Output, finite_number, in_file, positive_number, write_output
 from symkin.commands.analyze import tolerance
 from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
@@ -22,14 +22,15 @@ def add_arguments(p) -> None:
     p.add_argument("--input", default=None,
                    help="driving input label, e.g. rotation:crank (default: the model's first input); "
                         "with F > 1 the model's other inputs are held at their values")
-    p.add_argument("--from", dest="start", type=float, default=0.0,
+    p.add_argument("--from", dest="start", type=finite_number, default=0.0,
                    help="start value, measured from the model's configuration (default 0)")
-    p.add_argument("--to", dest="stop", type=float, required=True, help="end value (same unit)")
+    p.add_argument("--to", dest="stop", type=finite_number, required=True, help="end value (same unit)")
     p.add_argument("--unit", choices=("deg", "rad"), default="deg",
                    help="unit of --from/--to for angle inputs (default deg; lengths are in model units)")
     p.add_argument("--steps", type=int, default=None,
-                   help="at least this many points over the range (bounds the input change per step)")
-    p.add_argument("--max-arclength", type=float, default=None,
+                   help="at least this many points over the range (bounds the input change per step; "
+                        "1 to 10000: the tracer stops after 20000 steps)")
+    p.add_argument("--max-arclength", type=positive_number, default=None,
                    help="stop after this arclength, in units of the model's length scale (default 60)")
     out = p.add_mutually_exclusive_group()
     out.add_argument("--json", action="store_true", help="print one JSON object (points and events)")
@@ -109,9 +110,19 @@ def _csv(path, unit: str) -> str:
 def run(args) -> Output:
     from symkin.paths.trace import trace
 
+    from symkin.paths.continuation import Settings
+
     mech = read_model(args.model)
+    most = Settings().max_steps
+    limit = most // 2  # room for the steps that are halved and retried
     if args.steps is not None and args.steps < 1:
         raise SymkinError(f"{args.model}: --steps must be a positive integer")
+    if args.steps is not None and args.steps > limit:
+        raise SymkinError(f"{args.model}: --steps {args.steps}: give 1 to {limit} (the tracer stops after "
+                          f"{most} steps, so more points could not all be reached)")
+    if not math.isfinite(args.stop - args.start):
+        raise SymkinError(f"{args.model}: --from {args.start:g} --to {args.stop:g}: the range overflows; "
+                          "give a range of finite width")
     if args.start == args.stop:
         raise SymkinError(f"{args.model}: --from and --to are equal: nothing to trace")
     if args.plot:
@@ -133,12 +144,8 @@ def run(args) -> Output:
 
         notes.append(f"figure written to {save_path_figures(path, args.plot, unit=args.unit)}")
     if args.csv:
-        from pathlib import Path as _P
-
-        target = _P(args.csv)
-        tmp = target.with_name(target.name + ".tmp")
-        tmp.write_text(_csv(path, args.unit))
-        tmp.replace(target)
+        text = _csv(path, args.unit)
+        target = write_output(args.csv, lambda tmp: tmp.write_text(text))
         notes.append(f"{len(path.points)} points written to {target}")
     if args.json:
         return Output(json.dumps(path.to_dict(args.unit), indent=1), message="\n".join(notes))

@@ -63,6 +63,9 @@ class EventType:
     whose value below ``near_threshold`` at a located root says the root sits at a branch
     point; the event is then relocated by ``near`` and reported as ``near``'s kind.  ``flat``:
     a signed test at most this at both ends of a step is identically zero there (no isolated root).
+    ``isolated``: the test must exceed ``flat`` (signed) or ``threshold`` (a minimum) at *both*
+    ends of its bracket: where it falls to zero and stays there (a curve entering a branch on
+    which a link stays locked) there is no isolated event.
     """
 
     __test__ = False  # not a pytest test class
@@ -77,6 +80,7 @@ class EventType:
     near: "EventType | None" = field(default=None, repr=False)
     near_threshold: float = DEFAULT.near_branch
     flat: float = FLAT
+    isolated: bool = False
 
     def value(self, y: np.ndarray, t: np.ndarray) -> float:
         """The test's value at ``y`` (tangent ``t``)."""
@@ -84,7 +88,8 @@ class EventType:
 
     def brackets_root(self, fa: float, fb: float) -> bool:
         """Whether values ``fa`` and ``fb`` at two consecutive points bracket an isolated root."""
-        return self.signed and np.sign(fa) * np.sign(fb) < 0 and max(abs(fa), abs(fb)) > self.flat
+        ends = (min if self.isolated else max)(abs(fa), abs(fb))
+        return self.signed and np.sign(fa) * np.sign(fb) < 0 and ends > self.flat
 
     def brackets_minimum(self, fa: float, fb: float, fc: float) -> bool:
         """Whether values at three consecutive points bracket a local minimum worth locating.
@@ -94,7 +99,7 @@ class EventType:
         rounding noise are no isolated events.
         """
         return (not self.signed and fb < self.detect and fb <= fa and fb <= fc
-                and max(fa, fc) > self.threshold)
+                and (min if self.isolated else max)(fa, fc) > self.threshold)
 
     def locate(self, problem: CurveProblem, a: CurvePoint, b: CurvePoint, c: CurvePoint | None = None,
                rank: float = DEFAULT.rank) -> tuple[Kind | None, CurveEvent] | None:

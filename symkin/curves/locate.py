@@ -80,7 +80,7 @@ class CurveEvent:
 
 @dataclass(frozen=True)
 class SingularPoint:
-    """Result of :func:`locate_singular_point`: ``y`` and its left null vectors ``psi`` (m, drop).
+    """Result of :func:`locate_singular_point`: ``y`` and its left null vectors ``psi`` ((m,) for ``drop = 1``, else (m, drop)).
 
     ``deflations`` counts how many times system (1) of the module docstring was deflated
     because it was singular there (0 at a simple branch point, 2 at the double butterfly's
@@ -284,7 +284,8 @@ def locate_singular_point(problem, y0: np.ndarray, drop: int = 1, tol: float = D
     z = c.z[:size]
     y = z[:n]
     res = float(np.max(np.abs(np.array(f(y)[0], float)), initial=0.0))
-    return SingularPoint(y, z[n:].reshape(drop, -1).T, deflations, c.converged, res, iters)
+    psi = z[n:].reshape(drop, -1).T
+    return SingularPoint(y, psi[:, 0] if drop == 1 else psi, deflations, c.converged, res, iters)
 
 
 def nullity(problem: CurveProblem, y: np.ndarray, rank: float = DEFAULT.rank) -> int:

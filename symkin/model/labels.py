@@ -79,7 +79,8 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     (('rotation:crank',), ('rotation:rocker',), ('crank', 'coupler', 'rocker'))
     """
     inputs = tuple(c.label for c in coordinate_labels(mech))
-    outputs = tuple(c.label for c in driving_labels(mech, mech.outputs) if c.label not in inputs)
+    taken = set(inputs)
+    outputs = tuple(c.label for c in driving_labels(mech, mech.outputs) if c.label not in taken)
     return {"inputs": inputs, "outputs": outputs,
             "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
             "slide": tuple(s.id for s in mech.sliders),

@@ -6,7 +6,10 @@ for a user's mistake except that single error.
 """
 from __future__ import annotations
 
+import json
 import math
+from collections import Counter, defaultdict
+from itertools import product
 from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
@@ -151,19 +154,27 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     node_set = set(nodes)
     links = _parse_links(data.get("links"), node_set, out)
     fixed = _names(data.get("fixed", []), "fixed", out, node_set, "node")
-    for n in {f for f in fixed if fixed.count(f) > 1}:
-        out.add("fixed", f"node {n!r} listed twice")
+    for n, count in _repeated(fixed):
+        out.add("fixed", f"node {n!r} listed {_times(count)}")
 
     scale = length_scale(nodes, links.values())
     if scale < MIN_LENGTH:
         out.add("nodes", f"the model's length scale (mean distance between the nodes of a link) is "
                          f"{scale:.3g}, below {MIN_LENGTH:g}: lengths this small underflow; use another unit")
-    _check_link_geometry(nodes, links, scale, tolerances.geometry, out)
+    outliers = _outliers(nodes, links, scale)
+    for name, coordinate, typical in outliers:
+        out.add(f"nodes.{name}", f"coordinate {coordinate:.6g} is an outlier: {abs(coordinate) / typical:.3g} "
+                                 f"times the model's typical size {typical:.3g}, so that every ordinary link "
+                                 "would be taken for zero length (a typo, or another unit?)")
+    if not outliers:
+        _check_link_geometry(nodes, links, scale, tolerances.geometry, out)
     used = {n for ns in links.values() for n in ns}
     for n in nodes:
         if n not in used:
             out.add(f"nodes.{n}", "node belongs to no link")
 
+    if nodes and fixed and len(set(fixed)) == len(nodes):
+        out.add("fixed", f"every node is fixed ({len(nodes)} nodes): nothing can move")
     sliders = _parse_sliders(data.get("sliders", []), dim, nodes, links, set(fixed), scale,
                              tolerances.geometry, out)
     link_set = set(links)
@@ -233,25 +244,108 @@ def _parse_links(table: Any, node_set: set[str], out: _Collector) -> dict[str, t
         if len(ns) < 2:
             out.add(key, f"a link needs at least 2 nodes, got {len(ns)}")
             continue
-        repeated = sorted({n for n in ns if ns.count(n) > 1})
+        repeated = _repeated(ns)
         if repeated:
-            out.add(key, f"node(s) {', '.join(repeated)} repeated")
+            out.add(key, "node(s) " + ", ".join(f"{n} ({_times(c)})" if c > 2 else n for n, c in repeated)
+                    + " repeated")
             continue
         links[name] = ns
     return links
 
 
+def _repeated(items) -> list[tuple[Any, int]]:
+    """The entries of ``items`` that occur more than once, with their count, sorted (linear time)."""
+    return sorted(((k, c) for k, c in Counter(items).items() if c > 1), key=lambda kc: str(kc[0]))
+
+
+def _times(count: int) -> str:
+    return "twice" if count == 2 else f"{count} times"
+
+
+def _coincident_groups(points: list[tuple[str, tuple[float, ...]]], radius: float) -> list[list[str]]:
+    """Groups of names whose points lie within ``radius`` of another of the group.
+
+    A grid of cells of side ``radius`` (hashing, expected linear time): two points within
+    ``radius`` lie in the same or neighbouring cells.  Groups keep the order of ``points``.
+    """
+    if not points:
+        return []
+    dim = len(points[0][1])
+    cells: dict[tuple[int, ...], list[int]] = defaultdict(list)
+    side = radius if radius > 0 else 1.0
+    keys = []
+    for i, (_, p) in enumerate(points):
+        key = tuple(math.floor(c / side) for c in p) if radius > 0 else tuple(p)
+        keys.append(key)
+        cells[key].append(i)
+    parent = list(range(len(points)))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    offsets = list(product((-1, 0, 1), repeat=dim)) if radius > 0 else [(0,) * dim]
+    for i, (_, p) in enumerate(points):
+        for off in offsets:
+            for j in cells.get(tuple(k + o for k, o in zip(keys[i], off)), ()):
+                if j > i and math.dist(p, points[j][1]) <= radius:
+                    ri, rj = root(i), root(j)
+                    if ri != rj:
+                        parent[max(ri, rj)] = min(ri, rj)
+    groups: dict[int, list[str]] = defaultdict(list)
+    for i, (name, _) in enumerate(points):
+        groups[root(i)].append(name)
+    return [g for g in groups.values() if len(g) > 1]
+
+
+#: a node this many times the model's typical size away from the median node is an outlier
+OUTLIER_RATIO = 1e6
+
+
+def _outliers(nodes, links, scale) -> list[tuple[str, float, float]]:
+    """Nodes with a coordinate so far out that the length scale no longer describes the model.
+
+    The typical size is the median distance of the nodes from their median point (robust
+    to a few wild values); a node more than :data:`OUTLIER_RATIO` typical sizes from that
+    point is returned as ``(name, its farthest coordinate, typical size)``.  Looked for
+    only when the length scale is itself that far above the typical size.
+    """
+    from statistics import median
+
+    points = [(n, p) for n, p in nodes.items() if p is not None]
+    dims = {len(p) for _, p in points}
+    if len(points) < 3 or len(dims) != 1:
+        return []
+    dim = dims.pop()
+    centre = [median(p[k] for _, p in points) for k in range(dim)]
+    spread = [d for d in (math.dist(p, centre) for _, p in points) if d > 0]
+    if not spread:
+        return []
+    typical = median(spread)
+    if scale <= OUTLIER_RATIO * typical:
+        return []
+    found = []
+    for name, p in points:
+        if math.dist(p, centre) > OUTLIER_RATIO * typical:
+            far = max(range(dim), key=lambda k: abs(p[k] - centre[k]))
+            found.append((name, p[far], typical))
+    return found
+
+
 def _check_link_geometry(nodes, links, scale, tol, out: _Collector) -> None:
     for name, ns in links.items():
         pts = [(n, nodes.get(n)) for n in ns]
-        for i in range(len(pts)):
-            for j in range(i + 1, len(pts)):
-                (a, pa), (b, pb) = pts[i], pts[j]
-                if pa is None or pb is None or len(pa) != len(pb):
-                    continue
-                if math.dist(pa, pb) <= tol * scale:
-                    what = "zero-length bar" if len(ns) == 2 else "coincident nodes in a rigid body"
-                    out.add(f"links.{name}", f"{what}: nodes {a} and {b} are at the same point")
+        dims = {len(p) for _, p in pts if p is not None}
+        pts = [(n, p) for n, p in pts if p is not None and len(dims) == 1]
+        for group in _coincident_groups(pts, tol * scale):
+            what = "zero-length bar" if len(ns) == 2 else "coincident nodes in a rigid body"
+            if len(group) == 2:
+                out.add(f"links.{name}", f"{what}: nodes {group[0]} and {group[1]} are at the same point")
+            else:
+                shown = ", ".join(group[:10]) + (f", … ({len(group)} nodes)" if len(group) > 10 else "")
+                out.add(f"links.{name}", f"{what}: nodes {shown} are at the same point")
 
 
 def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, out: _Collector) -> list[Slider]:
@@ -259,6 +353,7 @@ def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, o
         out.add("sliders", "must be a list of tables")
         return []
     sliders, ids = [], {}
+    repeated_ids: dict[str, list[int]] = defaultdict(list)
     per_node: dict[str, int] = {}
     for item in items:
         if isinstance(item, Mapping) and isinstance(item.get("node"), str):
@@ -281,7 +376,8 @@ def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, o
             continue
         key = f"sliders[{k}] ({sid})"
         if sid in ids:
-            out.add(key, f"duplicate slider id {sid!r}")
+            repeated_ids[sid].append(k)
+            continue
         ids[sid] = k
         if node in fixed:
             out.add(key, f"node {node} is fixed; a fixed node cannot slide")
@@ -299,6 +395,10 @@ def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, o
             slider = _fixed_slider(item, sid, node, p, dim, scale, tol, key, out)
         if slider is not None:
             sliders.append(slider)
+    for sid, where in repeated_ids.items():
+        others = ", ".join(f"[{k}]" for k in where[:5]) + (", …" if len(where) > 5 else "")
+        out.add(f"sliders[{ids[sid]}] ({sid})",
+                f"duplicate slider id {sid!r}: {len(where) + 1} sliders have it (also sliders{others})")
     return sliders
 
 
@@ -364,9 +464,20 @@ def _parse_parameters(items: Any, where: str, ctx: dict, out: _Collector) -> lis
     if not isinstance(items, (list, tuple)):
         out.add(where, "must be a list of tables such as {rotation = \"crank\"}")
         return []
-    params = []
+    params, first, first_raw = [], {}, {}
+    repeats: dict[tuple, list[int]] = defaultdict(list)
     for k, item in enumerate(items):
         key = f"{where}[{k}]"
+        try:  # the same entry again is counted, not checked again
+            raw = json.dumps(item, sort_keys=True, default=repr)
+        except (TypeError, ValueError):
+            raw = None
+        if raw is not None:
+            if raw in first_raw:
+                repeats[first_raw[raw]].append(k)
+                continue
+            first_raw[raw] = ("entry", k)
+            first[("entry", k)] = k
         if not isinstance(item, Mapping):
             out.add(key, f"must be a table such as {{rotation = \"crank\"}}, got {_short(item)}")
             continue
@@ -376,8 +487,19 @@ def _parse_parameters(items: Any, where: str, ctx: dict, out: _Collector) -> lis
             out.add(key, f"needs exactly one of {', '.join(PARAMETER_KINDS)}")
             continue
         param = _parameter(kinds[0], item, key, ctx, out)
-        if param is not None:
-            params.append(param)
+        if param is None:
+            continue
+        same = (param.kind, param.target, param.axis, param.component)  # the label aside
+        if same in first:
+            repeats[same].append(k)
+            continue
+        if raw is not None:
+            first_raw[raw] = same
+        first[same] = k
+        params.append(param)
+    for same, again in repeats.items():
+        out.add(f"{where}[{first[same]}]", f"listed {_times(len(again) + 1)} (also {where}"
+                + ", ".join(f"[{k}]" for k in again[:5]) + (", …" if len(again) > 5 else "") + ")")
     return params
 
 
@@ -424,7 +546,8 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
                 return None
         return Parameter(kind, (value,), axis=axis, label=label)
     if kind == "slide":
-        matches = [s for s in ctx["sliders"] if s.id == value] or [s for s in ctx["sliders"] if s.node == value]
+        by_id, by_node = _slider_index(ctx)
+        matches = by_id.get(value) or by_node.get(value, [])
         if not matches:
             out.add(key, f"unknown slider {value!r}")
             return None
@@ -448,6 +571,17 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
         out.add(key, f"component must be one of {', '.join(AXES[:dim or 3])}, got {comp!r}")
         return None
     return Parameter("velocity", (value,), component=comp, label=label)
+
+
+def _slider_index(ctx) -> tuple[dict, dict]:
+    """Sliders by id and by node (built once per model: lookups stay constant-time)."""
+    if "_slider_index" not in ctx:
+        by_id, by_node = defaultdict(list), defaultdict(list)
+        for sl in ctx["sliders"]:
+            by_id[sl.id].append(sl)
+            by_node[sl.node].append(sl)
+        ctx["_slider_index"] = (dict(by_id), dict(by_node))
+    return ctx["_slider_index"]
 
 
 def _rotation_axis(item, link, key, ctx, out):

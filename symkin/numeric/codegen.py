@@ -24,6 +24,14 @@ speed-up: the generated functions give the numbers of the in-process CasADi Func
   inside the cache and moved into place with ``os.replace``, the library last; builders of
   the same artefact are serialised by a lock file (``fcntl.flock`` where available), so
   concurrent processes (Dask workers) never load a half-written library.
+* Every library is recorded when written: its size and SHA-256 go to a sidecar
+  ``stem.so.sha256`` (JSON, written atomically before the library is moved into place),
+  and a library is verified against it before it is loaded.  A truncated, zero-filled or
+  foreign file (which the dynamic loader could map and then crash on with SIGBUS or
+  SIGSEGV) is rebuilt with a one-line :class:`CodegenWarning` instead of loaded.
+* Build folders (``.build-*``) left by a killed compile are removed on the next compile
+  once they are older than an hour (:data:`STALE_BUILD_SECONDS`).  :func:`cache_size` and
+  :func:`clear_cache` back the ``symkin cache`` command.
 * With no working compiler, a :class:`CodegenWarning` says so and the in-process
   Functions stay in use.
 """
@@ -48,7 +56,8 @@ from symkin.numeric import simd
 __all__ = ["CodegenWarning", "CompilerError", "DEFAULT_FLAGS", "cache_directory", "artefact_stem",
            "artefact_key", "cached_library", "write_atomic",
            "generate_sources", "build_library", "load_library", "compile_evaluators", "header_notes",
-           "find_compiler", "GENERATED_FUNCTIONS", "manifest", "NATIVE_FLAGS"]
+           "find_compiler", "GENERATED_FUNCTIONS", "manifest", "NATIVE_FLAGS", "record_artefact",
+           "verify_artefact", "cache_size", "clear_cache", "clean_stale_builds", "STALE_BUILD_SECONDS"]
 
 #: flags for the system compiler; ``-ffp-contract=off`` keeps the arithmetic of the
 #: in-process CasADi virtual machine (no fused multiply-add), so results are identical;
@@ -66,6 +75,8 @@ _SOURCES = ("casadi_model", "evaluators", "sx_linalg", "codegen", "geometric_mat
 GENERATED_FUNCTIONS = ("G", "J", "closure", "closure_jacobian", "parameters", "indicators",
                        "indicators_batch", "motion")
 _LOADED: dict[str, dict[str, ca.Function]] = {}
+#: a ``.build-*`` folder older than this (seconds) belongs to a killed compile and is removed
+STALE_BUILD_SECONDS = 3600.0
 
 _DESCRIPTIONS = {
     "q": "free nodal coordinates (free nodes in node order, x, y[, z] each)",
@@ -308,6 +319,9 @@ def write_atomic(path, text: str) -> Path:
     """Write ``text`` to ``path`` through a temporary file in the same directory and ``os.replace``."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp, 0o666 & ~mask)  # the mode of a new file, not mkstemp's 0600
     try:
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
@@ -335,6 +349,101 @@ def _build_lock(path: Path):
             fcntl.flock(fh, fcntl.LOCK_UN)
 
 
+def _sidecar(so_path: Path) -> Path:
+    return so_path.with_name(so_path.name + ".sha256")
+
+
+def _digest(path: Path) -> tuple[int, str]:
+    digest = hashlib.sha256()
+    size = 0
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            size += len(block)
+            digest.update(block)
+    return size, digest.hexdigest()
+
+
+def record_artefact(so_path, final_path=None) -> Path:
+    """Write the size and SHA-256 of ``so_path`` to the sidecar of ``final_path`` (default ``so_path``).
+
+    The sidecar ``NAME.sha256`` is a small JSON object written atomically; a library is
+    loaded only when its size and hash match it (:func:`verify_artefact`).
+    """
+    so_path = Path(so_path)
+    size, sha = _digest(so_path)
+    target = Path(final_path) if final_path is not None else so_path
+    return write_atomic(_sidecar(target), json.dumps({"size": size, "sha256": sha}))
+
+
+def verify_artefact(so_path) -> str | None:
+    """``None`` when ``so_path`` matches its recorded size and hash, else why not (one phrase)."""
+    so_path = Path(so_path)
+    try:
+        record = json.loads(_sidecar(so_path).read_text())
+        size, sha = int(record["size"]), str(record["sha256"])
+    except FileNotFoundError:
+        return "no recorded hash"
+    except (OSError, ValueError, KeyError, TypeError):
+        return "its recorded hash is unreadable"
+    try:
+        actual = so_path.stat().st_size
+    except OSError:
+        return "missing"
+    if actual != size:
+        return f"size {actual} bytes, recorded {size}"
+    if _digest(so_path)[1] != sha:
+        return "content differs from its recorded hash"
+    return None
+
+
+def clean_stale_builds(directory, age: float = STALE_BUILD_SECONDS) -> list[Path]:
+    """Remove the ``.build-*`` folders of ``directory`` older than ``age`` seconds; return them."""
+    import time
+
+    removed = []
+    now = time.time()
+    for path in Path(directory).glob(".build-*"):
+        try:
+            if now - path.stat().st_mtime > age:
+                shutil.rmtree(path, ignore_errors=True)
+                removed.append(path)
+        except OSError:
+            continue
+    return removed
+
+
+def cache_size(cache_dir=None) -> tuple[int, int]:
+    """``(number of files, bytes)`` under the artefact cache (0, 0 when it does not exist)."""
+    root = cache_directory(cache_dir)
+    count = total = 0
+    if root.is_dir():
+        for path in root.rglob("*"):
+            try:
+                if path.is_file():
+                    count += 1
+                    total += path.stat().st_size
+            except OSError:
+                continue
+    return count, total
+
+
+def clear_cache(cache_dir=None) -> tuple[int, int]:
+    """Empty the artefact cache (the folder itself stays); return what was removed as :func:`cache_size`."""
+    root = cache_directory(cache_dir)
+    removed = cache_size(root)
+    if root.is_dir():
+        for path in root.iterdir():
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path, ignore_errors=True)
+            else:
+                try:
+                    path.unlink()
+                except FileNotFoundError:
+                    pass
+    _LOADED.clear()
+    return removed
+
+
 def cached_library(directory, stem: str, write_sources: Callable[[Path], Path], names,
                    compiler: str | None = None, flags=DEFAULT_FLAGS, force: bool = False) -> dict[str, ca.Function]:
     """Build (once per cache) and load the library ``stem.so``: the one entry point of the artefact cache.
@@ -353,25 +462,34 @@ def cached_library(directory, stem: str, write_sources: Callable[[Path], Path], 
     """
     directory = _ensure(Path(directory))
     so_path = directory / f"{stem}.so"
+    key = str(so_path.resolve())
 
     def build(rebuild: bool) -> None:
         with _build_lock(directory / f"{stem}.lock"):
-            if so_path.exists() and not rebuild:
+            if not rebuild and so_path.exists() and verify_artefact(so_path) is None:
                 return  # another process built it while we waited
+            clean_stale_builds(directory)
             with tempfile.TemporaryDirectory(dir=directory, prefix=".build-") as tmp:
                 c_path = write_sources(Path(tmp))
                 built = build_library(c_path, Path(tmp) / so_path.name, compiler, flags)
                 for src in sorted(Path(tmp).iterdir()):
                     if src != built:
                         os.replace(src, directory / src.name)
+                record_artefact(built, so_path)  # the record first: a reader then sees a mismatch, not a crash
                 os.replace(built, so_path)
-        _LOADED.pop(str(so_path.resolve()), None)
+        _LOADED.pop(key, None)
 
     if force or not so_path.exists():
         build(rebuild=force)
+    elif key not in _LOADED:
+        problem = verify_artefact(so_path)
+        if problem is not None:
+            warnings.warn(f"symkin: cached library {so_path} is damaged ({problem}); compiled again",
+                          CodegenWarning, stacklevel=3)
+            build(rebuild=False)  # under the lock: rebuilt unless another process just did
     try:
         return load_library(so_path, names)
-    except RuntimeError:  # a damaged or foreign file under our name: build it again, once
+    except RuntimeError:  # a file the loader refuses under our name: build it again, once
         build(rebuild=True)
         return load_library(so_path, names)
 

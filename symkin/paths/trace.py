@@ -1,9 +1,11 @@
 """Trace a mechanism along its input, locate singular configurations and classify them.
 
-:func:`trace` continues the position problem (:class:`~symkin.paths.system.MechanismCurve`)
-with pseudo-arclength steps (:mod:`symkin.paths.continuation`), evaluates indicators at
-every accepted point, and refines every event to machine precision
-(:mod:`symkin.paths.events`):
+:func:`trace` is the mechanism layer over the curve toolkit: it builds the position problem
+(:class:`~symkin.paths.system.MechanismCurve`), the event types from the indicators and the
+stop rules, and calls the one tracer (:func:`symkin.curves.tracer.trace_curve`), which
+continues the curve with pseudo-arclength steps, evaluates every test at each accepted
+point and locates every event to machine precision (:mod:`symkin.curves.locate`); then it
+classifies the events.  The event types:
 
 * ``DKP-input`` — sign change of ``det[J_S; P̂_in] / sqrt(det(J_S J_Sᵀ))`` (J_S: the
   evaluators' independent geometric rows, P̂_in: unit input rows), which equals
@@ -15,6 +17,13 @@ every accepted point, and refines every event to machine precision
   continuation: a simple branch point (IM);
 * ``IM`` — a near-zero minimum of ``σ_{F+1}`` (the square root of the paper's IM indicator,
   which touches zero without changing sign; ``J`` is dimensionless), for tangent branch points;
+  IM events are moved onto their branch point by the one singular-point locator
+  (:func:`symkin.curves.locate.locate_singular_point`: exact derivatives, deflation);
+* ``LIM:<link>`` (F = 1) — a link stops while the mechanism moves: sign change of its
+  angular rate about its fixed pivot or axis along the tangent, or a near-zero minimum of
+  its free nodes' speed (:func:`~symkin.analysis.indicators.link_rate`,
+  :func:`~symkin.analysis.indicators.link_speed`); an event of kind LIM, merged into a DKP
+  event at the same configuration (kinds in the order IM, DKP-input, DKP-output, LIM);
 * ``end`` — the input reaches the requested value.
 
 The DKP and IM tests, and the indicators recorded at every point, are values of the one
@@ -379,10 +388,11 @@ def event_types(curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances = 
     tests.append(im)
     if f == 1:
         for link, (motion, signed) in _link_motions(curve).items():
-            # flat below the event threshold: on a branch along which the link stays locked (the double
-            # butterfly's LIM branch) its rate is rounding noise, not a sequence of stops
+            # flat below the event threshold, at both ends of a bracket: on a branch along which the link
+            # stays locked (the double butterfly's LIM branch) its rate is rounding noise, and where the
+            # curve enters such a branch the link stops for good: neither is an isolated stop
             tests.append(EventType(f"{Kind.LIM}:{link}", motion, signed=signed, threshold=accept, kind=Kind.LIM,
-                                   flat=accept, **near))
+                                   flat=accept, isolated=True, **near))
     return tests
 
 

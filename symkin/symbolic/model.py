@@ -304,7 +304,7 @@ class SymbolicModel:
         """
         from sympy.polys.matrices import DomainMatrix
 
-        from symkin.symbolic.conditions import _block_dot
+        from symkin.symbolic.readable_forms import block_dot
 
         free = {c: k for k, c in enumerate(self.free)}
         n = len(free)
@@ -325,7 +325,7 @@ class SymbolicModel:
 
             def dot(i, j):
                 if self.coordinates == "angles":
-                    e = sp.Add(*[_block_dot(blocks[i][k], blocks[j][k]) for k in set(blocks[i]) & set(blocks[j])])
+                    e = sp.Add(*[block_dot(blocks[i][k], blocks[j][k]) for k in set(blocks[i]) & set(blocks[j])])
                 else:
                     ei, ej = rows[i].entries(self.dim), rows[j].entries(self.dim)
                     e = sp.Add(*[ei[c] * ej[c] for c in ei if c in ej and c in free])

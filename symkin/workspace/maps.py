@@ -199,28 +199,40 @@ class WorkspaceMap:
 
 
 def load_map(path) -> WorkspaceMap:
-    """Read a map written by :meth:`WorkspaceMap.save` (``symkin.load_map``)."""
+    """Read a map written by :meth:`WorkspaceMap.save` (``symkin.load_map``).
+
+    Raises
+    ------
+    SymkinError
+        Naming the file, when it is missing, truncated, or not a map written by symkin.
+    """
     path = Path(path)
     try:
         with np.load(path, allow_pickle=False) as data:
             files = dict(data.items())
-    except (OSError, ValueError) as exc:
-        raise SymkinError(f"{path}: not a symkin map file ({exc})") from None
+    except Exception as exc:  # noqa: BLE001 - OSError, ValueError, BadZipFile, zlib.error, EOFError ...
+        raise SymkinError(f"{path}: not a symkin map file ({type(exc).__name__}: {exc})") from None
     if "header" not in files:
         raise SymkinError(f"{path}: not a symkin map file (no header)")
-    head = json.loads(str(files["header"]))
-    axes = tuple(Axis(a["label"], a["lo"], a["hi"], a["n"]) for a in head["axes"])
-    modes = []
-    for m in head["modes"]:
-        k = m["id"]
-        modes.append(ModeMap(files[f"mode{k}_seed_q"], *(files[f"mode{k}_{name}"] for name in GRID_ARRAYS),
-                             id=k, seed=m["seed"], branch_changes=tuple((tuple(a), tuple(b)) for a, b in m["branch_changes"]),
-                             q=files.get(f"mode{k}_q"), note=m.get("note", "")))
-    curves = tuple(MapCurve(c["kind"], c["mode"], c["closed"], files[f"curve{k}_points"])
-                   for k, c in enumerate(head["curves"]))
-    points = tuple(MapPoint(p["kind"], p["mode"], tuple(p["at"]), tuple(p["types"])) for p in head["points"])
-    return WorkspaceMap(head["model"], axes, head["unit"], tuple((h["label"], h["value"]) for h in head["hold"]),
-                        tuple(modes), curves, points, head["tolerance"], tuple(head["notes"]))
+    try:
+        head = json.loads(str(files["header"]))
+        axes = tuple(Axis(a["label"], a["lo"], a["hi"], a["n"]) for a in head["axes"])
+        modes = []
+        for m in head["modes"]:
+            k = m["id"]
+            modes.append(ModeMap(files[f"mode{k}_seed_q"], *(files[f"mode{k}_{name}"] for name in GRID_ARRAYS),
+                                 id=k, seed=m["seed"],
+                                 branch_changes=tuple((tuple(a), tuple(b)) for a, b in m["branch_changes"]),
+                                 q=files.get(f"mode{k}_q"), note=m.get("note", "")))
+        curves = tuple(MapCurve(c["kind"], c["mode"], c["closed"], files[f"curve{k}_points"])
+                       for k, c in enumerate(head["curves"]))
+        points = tuple(MapPoint(p["kind"], p["mode"], tuple(p["at"]), tuple(p["types"])) for p in head["points"])
+        return WorkspaceMap(head["model"], axes, head["unit"],
+                            tuple((h["label"], h["value"]) for h in head["hold"]),
+                            tuple(modes), curves, points, head["tolerance"], tuple(head["notes"]))
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
+        what = f"missing entry {exc}" if isinstance(exc, KeyError) else f"{type(exc).__name__}: {exc}"
+        raise SymkinError(f"{path}: not a symkin map file, or written by another version ({what})") from None
 
 
 # ---------------------------------------------------------------------- refinement

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 from symkin.paths.branching import branch_directions
-from symkin.paths.continuation import Settings, continue_curve, newton
-from symkin.paths.events import TestFunction, locate_minimum, locate_sign_change
+from symkin.curves.stepper import Settings, continue_curve, correct
+from symkin.curves.events import EventType as TestFunction
+from symkin.curves.locate import locate_minimum, locate_sign_change
 
 
 class Circle:
@@ -117,7 +118,7 @@ def test_newton_reports_how_close_it_got():
             return np.array([2 * y])
 
     with pytest.raises(NotConvergedError) as info:
-        newton(NoRoot(), np.array([0.3, 0.2]), max_iterations=15)
+        correct(NoRoot(), np.array([0.3, 0.2]), max_iterations=15)
     assert info.value.data["residual"] >= 1.0
 
 
@@ -137,7 +138,7 @@ def test_generated_corrector_matches_the_least_squares_corrector():
     def hyperplane(y):
         return np.array([t0 @ (y - pred)]), t0[None, :]
 
-    y_ref, _, _ = newton(curve, pred, extra=hyperplane)
+    y_ref, _, _ = correct(curve, pred, extra=hyperplane)
     np.testing.assert_allclose(y_fast, y_ref, atol=1e-13)
-    from symkin.paths.continuation import tangent
+    from symkin.curves.stepper import tangent
     np.testing.assert_allclose(t_fast, tangent(curve, y_fast, t0), atol=1e-12)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from symkin.errors import NotConvergedError
-from symkin.paths.continuation import NonFiniteError, Settings, continue_curve, newton, tangent
+from symkin.curves.stepper import NonFiniteError, Settings, continue_curve, correct, tangent
 
 
 class _Circle:
@@ -25,14 +25,14 @@ class _Circle:
 
 def test_newton_on_a_nan_jacobian_raises_not_converged():
     with pytest.raises(NonFiniteError, match="Jacobian is not finite") as info:
-        newton(_Circle(x_bad=-10.0), np.array([1.1, 0.0]))
+        correct(_Circle(x_bad=-10.0), np.array([1.1, 0.0]))
     assert isinstance(info.value, NotConvergedError)
     np.testing.assert_array_equal(info.value.data["y"], [1.1, 0.0])
 
 
 def test_newton_on_a_nan_residual_raises_not_converged():
     with pytest.raises(NonFiniteError, match="residual is not finite"):
-        newton(_Circle(residual_bad=True), np.array([1.1, 0.0]))
+        correct(_Circle(residual_bad=True), np.array([1.1, 0.0]))
 
 
 def test_tangent_on_a_nan_jacobian_raises_not_converged():

@@ -1,0 +1,140 @@
+"""Rows of a symbolic model as sparse polynomials (step 1 of :mod:`symkin.symbolic.conditions`).
+
+Every row of the velocity equation is a polynomial row divided by a nonzero scale
+(:mod:`symkin.symbolic.rows`).  :class:`PolyContext` maps the polynomial parts into one
+sympy sparse polynomial ring over ``QQ`` — in angle coordinates the polynomials are in
+``cos θ, sin θ`` of each angle, used as independent generators — and back to sympy
+expressions; :func:`free_rows` keeps the rows that touch the free coordinates and
+:func:`poly_key` makes monic polynomials hashable.
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy import QQ
+from sympy.polys.rings import ring
+
+from symkin.symbolic.rows import SymRow
+
+__all__ = ["PolyContext", "free_rows", "poly_key"]
+
+
+def poly_key(p) -> tuple:
+    """Hashable key of a monic polynomial.
+
+    Parameters
+    ----------
+    p : sympy.polys.rings.PolyElement
+        A polynomial, usually monic (equal monic factors get equal keys).
+
+    Returns
+    -------
+    tuple
+        Its terms, sorted.
+    """
+    return tuple(sorted(p.terms()))
+
+
+class PolyContext:
+    """Polynomial ring of one symbolic model: rows as sparse polynomials, back to sympy.
+
+    In angle coordinates each angle ``a`` becomes two generators ``cos a`` and ``sin a``
+    (plain dummies); the relation ``cos² + sin² = 1`` is used only when reading factors
+    (Fourier form), never during elimination, so every step is exact polynomial algebra.
+
+    Parameters
+    ----------
+    sm : SymbolicModel
+        The model whose symbols (design substituted unless kept symbolic) make the ring.
+    rows : list of SymRow
+        Rows whose entries are converted up front; others are converted on demand.
+
+    Attributes
+    ----------
+    R : sympy.polys.rings.PolyRing
+        The ring over ``QQ``: ``cos``/``sin`` generators of each angle first, then the
+        other symbols (``other``) by name.
+    angles : list of sympy.Symbol
+        The angle coordinates (empty in nodal coordinates).
+    back : dict
+        Each ``cos``/``sin`` generator → ``cos(a)`` / ``sin(a)`` of its angle.
+    trig_index, other_index
+        Positions of each angle's two generators and of the other symbols in ``gens``.
+    """
+
+    def __init__(self, sm, rows: list[SymRow]):
+        self.sm = sm
+        self.angles = list(sm._builder.angle_like) if sm.coordinates == "angles" else []
+        self.trig = {a: (sp.Dummy(f"c_{a.name}"), sp.Dummy(f"s_{a.name}")) for a in self.angles}
+        self._to_gen = {}
+        for a, (c, s) in self.trig.items():
+            self._to_gen[sp.cos(a)] = c
+            self._to_gen[sp.sin(a)] = s
+        self.back = {c: sp.cos(a) for a, (c, s) in self.trig.items()}
+        self.back.update({s: sp.sin(a) for a, (c, s) in self.trig.items()})
+        converted = {}
+        others: set = set()
+        for row in rows:
+            for e in row.entries(sm.dim).values():
+                if e not in converted:
+                    converted[e] = self._prepare(e)
+                    others |= converted[e].free_symbols
+        trig_gens = [g for a in self.angles for g in self.trig[a]]
+        others -= set(trig_gens)
+        self.other = sorted(others, key=lambda s: s.name)
+        self.gens = trig_gens + self.other
+        if not self.gens:
+            self.gens = [sp.Dummy("one")]
+        self.R, *_ = ring(self.gens, QQ)
+        self._cache = {e: self.R.from_expr(v) for e, v in converted.items()}
+        self.trig_index = {a: (self.gens.index(self.trig[a][0]), self.gens.index(self.trig[a][1]))
+                           for a in self.angles}
+        self.other_index = [self.gens.index(s) for s in self.other]
+
+    def _prepare(self, e: sp.Expr) -> sp.Expr:
+        if self.trig:
+            e = sp.expand_trig(e).xreplace(self._to_gen)
+        return sp.expand(e)
+
+    def poly(self, e: sp.Expr):
+        if e not in self._cache:
+            self._cache[e] = self.R.from_expr(self._prepare(e))
+        return self._cache[e]
+
+    def row(self, row: SymRow, cols: dict[int, int]) -> dict[int, object]:
+        """Row as ``{position of column: polynomial}`` over the chosen columns."""
+        out = {}
+        for col, e in row.entries(self.sm.dim).items():
+            if col in cols:
+                p = self.poly(e)
+                if p:
+                    out[cols[col]] = p
+        return out
+
+    def to_expr(self, p) -> sp.Expr:
+        """Polynomial → sympy expression in the model's symbols (design substituted)."""
+        return self.sm.substitute_design(p.as_expr().xreplace(self.back))
+
+    def from_expr_symbolic(self, e: sp.Expr):
+        return self.R.from_expr(self._prepare(e))
+
+
+def free_rows(sm, rows: list[SymRow]) -> tuple[list[SymRow], dict[int, int]]:
+    """The rows with a nonzero entry over the model's free coordinates.
+
+    Parameters
+    ----------
+    sm : SymbolicModel
+        The model (its ``free`` columns and ``dim``).
+    rows : list of SymRow
+        Rows of the velocity equation.
+
+    Returns
+    -------
+    rows : list of SymRow
+        The rows that touch a free coordinate, in order.
+    cols : dict
+        Free column → its position among the free columns.
+    """
+    cols = {c: k for k, c in enumerate(sm.free)}
+    keep = [r for r in rows if any(c in cols and e != 0 for c, e in r.entries(sm.dim).items())]
+    return keep, cols
