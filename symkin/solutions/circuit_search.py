@@ -156,7 +156,7 @@ class CircuitSearch:
         index = len(self.paths)
         self._vertices_on(index)
         path = self._cut_at_return(index)
-        if path.stop_reason not in ("closed", "unreachable", RETURNED):
+        if path.stop_reason not in (Kind.CLOSED, "unreachable", RETURNED):
             why = path.message
             if any(k == index for k, _ in self.event_vertex):
                 why += ("; it passed a branch point, where the continuation may go on along another branch "
@@ -174,7 +174,7 @@ class CircuitSearch:
         first = self.trace_from(x, 1.0, origin)
         path = self.paths[first - 1][0]
         passed_vertex = any(k == first for k, _ in self.event_vertex)
-        if path.stop_reason not in ("closed", "unreachable") and not passed_vertex:
+        if path.stop_reason not in (Kind.CLOSED, "unreachable") and not passed_vertex:
             # a trace that neither closed nor met a vertex (it hit a limit) leaves the seed's other side
             second = self.trace_from(x, -1.0, origin + ", backward")
             self.groups.append([first, second])
@@ -266,7 +266,7 @@ class CircuitSearch:
                 continue
             if k in seen and _cosine(seen[k], e.t) >= RETURN_COSINE:
                 cut = e.s
-                kept = tuple(ev for ev in path.events if ev.s <= cut and ev.kind != "end")
+                kept = tuple(ev for ev in path.events if ev.s <= cut and ev.kind != Kind.END)
                 message = (f"the path came back to the branch point at {self.label} = "
                            f"{format_value(self.vertices[k]['input'], self.kind, self.unit)} in the direction it passed "
                            "it before: from there on it retraces itself")

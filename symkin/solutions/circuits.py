@@ -374,7 +374,7 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         outs = None if out_value is None else np.unwrap([out_value(p.coordinates) for p in path.points]) \
             if output.kind == "angle" else np.array([out_value(p.coordinates) for p in path.points])
         span = float(np.max(ins) - np.min(ins)) if ins.size else 0.0
-        closed = path.stop_reason in ("closed", "unreachable", RETURNED)
+        closed = path.stop_reason in (Kind.CLOSED, "unreachable", RETURNED)
         branches.append(Branch(index, as_dict(mech, path.points[0].coordinates), ins, outs, closed,
                                kind == "angle" and span >= 2 * math.pi - 1e-9, path.stop_reason, path))
     circuit_objs = [Circuit(k, tuple(b for b in branches if component[b.index] == k))
