@@ -180,3 +180,22 @@ def test_path_errors_keep_their_class_and_data(capsys, monkeypatch):
     assert str(info.value) == f"{model}: Newton reached a residual of 0.25"
     code, _, err = run(capsys, "path", model, "--to", "10")
     assert code == 2 and err.strip() == f"{model}: Newton reached a residual of 0.25" and "Traceback" not in err
+
+
+def test_catalogue_names_are_models(capsys):
+    """``catalogue:NAME`` is taken wherever a model file is; an unknown name is exit 2, listing the names."""
+    code, out, err = run(capsys, "analyze", "catalogue:fourbar_dead_centre", "--json")
+    assert code == 0 and json.loads(out)["types"] == ["DKP-output", "LIM"]
+    code, out, err = run(capsys, "analyze", "catalogue:fivebar")
+    assert code == 2 and out == ""
+    assert err.startswith("catalogue:fivebar: no mechanism 'fivebar' in the catalogue; known: ") and "five_bar" in err
+
+
+def test_shipped_examples_are_the_catalogue_and_test_models():
+    """``examples/`` holds the README's models: the catalogue five-bar and the tests' map models."""
+    from symkin import read_model
+    from symkin.model import catalogue
+
+    assert read_model(ROOT / "examples" / "fivebar.toml").to_dict() == catalogue.get("five_bar").to_dict()
+    for name in ("gough_stewart.toml", "rpr_3.toml"):
+        assert (ROOT / "examples" / name).read_text() == (ROOT / "tests" / "workspace" / "models" / name).read_text()

@@ -26,7 +26,7 @@ def tolerance(text: str) -> float:
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of the text report")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance on singular values (default 1e-8; see README)")

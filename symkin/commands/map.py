@@ -9,7 +9,7 @@ from pathlib import Path
 from symkin.commands import Output, check_holds, in_file, write_output
 from symkin.commands.analyze import tolerance
 from symkin.errors import SymkinError
-from symkin.model.model_file import read_model
+from symkin.model.model_file import CATALOGUE_PREFIX, read_model
 
 NAME = "map"
 HELP = ("map the singularity indicators of every working mode over two position coordinates "
@@ -27,7 +27,7 @@ def _count(text: str) -> int:
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--x", required=True, metavar="LABEL=LO:HI",
                    help="first axis: a coordinate label (velocity:P.x, rotation:L, slide:S) and its range; "
                         "absolute values (angles in --unit)")
@@ -36,7 +36,7 @@ def add_arguments(p) -> None:
     p.add_argument("--hold", action="append", default=[], metavar="LABEL[=VALUE]",
                    help="a held coordinate (F > 2 needs F - 2 of them); default value: the model's")
     p.add_argument("--seed", action="append", default=[], metavar="MODEL",
-                   help="a model file of the same mechanism in another working mode (repeatable)")
+                   help="a model file (or catalogue:NAME) of the same mechanism in another working mode (repeatable)")
     p.add_argument("--modes", choices=("model", "all"), default="model",
                    help="model: the model's configuration and each --seed; all: every real solution at the "
                         "reference point (needs the extra symkin[global])")
@@ -195,10 +195,12 @@ def run(args) -> Output:
     except SymkinError as exc:
         raise in_file(exc, args.model)
     bar = _progress(not args.no_progress and args.json != "-", args.n * args.n * (1 + len(args.seed)))
+    # a seed is a model file or a catalogue name (read here: the map reads files only)
+    seeds = tuple(read_model(s) if s.startswith(CATALOGUE_PREFIX) else s for s in args.seed)
     try:
         # --workers N: a local Dask cluster for this run, closed afterwards; --scheduler: an existing one
         with dask_client(workers=args.workers, scheduler=args.scheduler) as client:
-            m = workspace_map(mech, x=args.x, y=args.y, n=args.n, hold=tuple(args.hold), seeds=tuple(args.seed),
+            m = workspace_map(mech, x=args.x, y=args.y, n=args.n, hold=tuple(args.hold), seeds=seeds,
                               modes=args.modes, refine=not args.no_refine, unit=args.unit, tol=args.tol,
                               progress=bar.update if bar is not None else None, client=client)
     except SymkinError as exc:

@@ -15,7 +15,7 @@ HELP = ("every real configuration with given input or output values (assembly / 
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--at", metavar="LABEL=VALUE", action="append", default=[],
                    help="a prescribed value, measured from the model's configuration, e.g. rotation:crank=30 "
                         "(repeat: exactly F values)")

@@ -18,7 +18,7 @@ HELP = ("move a mechanism along one input (finite displacements), locate every s
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--input", default=None,
                    help="driving input label, e.g. rotation:crank (default: the model's first input); "
                         "with F > 1 the model's other inputs are held at their values")

@@ -17,7 +17,7 @@ HELP = ("every circuit of a 1-DOF mechanism and every DKP-input, DKP-output and 
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json) of a 1-DOF mechanism")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME of a 1-DOF mechanism")
     p.add_argument("--unit", choices=("deg", "rad"), default="deg",
                    help="unit of the reported angles (default deg; lengths are in model units)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
