@@ -1,6 +1,7 @@
 """The command line: reports, JSON contract, and user errors as `file: message` with exit code 2."""
 from __future__ import annotations
 
+import csv
 import json
 import math
 import subprocess
@@ -199,3 +200,45 @@ def test_shipped_examples_are_the_catalogue_and_test_models():
     assert read_model(ROOT / "examples" / "fivebar.toml").to_dict() == catalogue.get("five_bar").to_dict()
     for name in ("gough_stewart.toml", "rpr_3.toml"):
         assert (ROOT / "examples" / name).read_text() == (ROOT / "tests" / "workspace" / "models" / name).read_text()
+
+
+def test_path_and_singularities_print_the_same_numbers_for_the_same_configuration(capsys):
+    """One angle convention: relative to the model in (−180°, 180°], absolute in [0°, 360°), in every command."""
+    pytest.importorskip("bertini")
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    crank = "rotation:crank = -53.91904574 deg (absolute 23.55214655 deg)"
+    rocker = "rotation:rocker = -24.24725354 deg (absolute 61.3540411 deg)"
+    code, path_text, _ = run(capsys, "path", model, "--to", "360", "--no-progress")
+    assert code == 0 and f"at {crank}, 306.0809543 deg along the path" in path_text
+    assert f"outputs: {rocker}" in path_text
+    code, sing_text, _ = run(capsys, "singularities", model, "--no-progress")
+    assert code == 0 and f"at {crank}, {rocker}" in sing_text
+    # the JSON of both: the same numbers under the keys each had, and the absolute ones added
+    code, out, _ = run(capsys, "path", model, "--to", "360", "--json", "--no-progress")
+    event = json.loads(out)["events"][1]
+    code, out, _ = run(capsys, "singularities", model, "--json", "--no-progress")
+    (same,) = [s for s in json.loads(out)["singularities"] if abs(s["input"] - event["relative"]) < 1e-6]
+    assert event["input"] == pytest.approx(306.0809543, abs=1e-6)
+    assert same["input_absolute"] == pytest.approx(event["absolute"], abs=1e-9)
+    assert same["output"] == pytest.approx(event["outputs"]["rotation:rocker"]["relative"], abs=1e-9)
+    assert same["output_absolute"] == pytest.approx(event["outputs"]["rotation:rocker"]["absolute"], abs=1e-9)
+    for s in json.loads(out)["singularities"]:
+        assert -180 < s["input"] <= 180 and 0 <= s["input_absolute"] < 360 and 0 <= s["output_absolute"] < 360
+
+
+def test_path_csv_and_modes_give_the_outputs(capsys, tmp_path):
+    """``path --csv`` and ``modes`` give the outputs' values (relative and absolute), not only node coordinates."""
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    code, _, _ = run(capsys, "path", model, "--to", "360", "--csv", str(tmp_path / "p.csv"), "--no-progress")
+    rows = list(csv.DictReader((tmp_path / "p.csv").open()))
+    assert code == 0 and {"relative", "rotation:rocker", "rotation:rocker absolute"} <= set(rows[0])
+    assert float(rows[0]["rotation:rocker"]) == 0.0
+    assert float(rows[0]["rotation:rocker absolute"]) == pytest.approx(85.60129464500446, abs=1e-9)
+    assert all(-180 < float(r["relative"]) <= 180 and 0 <= float(r["absolute"]) < 360 for r in rows)
+    pytest.importorskip("bertini")
+    code, out, _ = run(capsys, "modes", model, "--at", "rotation:crank=30")
+    assert code == 0 and "at rotation:crank = 30 deg (absolute 107.4711923 deg)" in out
+    assert "outputs: rotation:rocker = 20.92279412 deg (absolute 106.5240888 deg)" in out
+    code, out, _ = run(capsys, "modes", model, "--at", "rotation:crank=30", "--json")
+    sols = json.loads(out)["solutions"]
+    assert sorted(round(s["outputs"]["rotation:rocker"]["relative"], 6) for s in sols) == [20.922794, 125.636035]

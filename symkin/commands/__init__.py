@@ -16,9 +16,34 @@ from typing import Callable
 from symkin.errors import ModelError, SymkinError, check_interrupt, interrupts_deferred
 
 __all__ = ["COMMANDS", "Output", "in_file", "write_output", "finite_number", "positive_number",
-           "non_negative_number", "check_holds", "check_output_folder"]
+           "non_negative_number", "check_holds", "check_output_folder", "format_coordinate", "format_outputs"]
 
 COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen", "cache"]
+
+
+def format_coordinate(label: str, relative: float, absolute: float | None, unit: str) -> str:
+    """One coordinate as every command prints it: relative to the model, then absolute.
+
+    Angles are measured from the model's configuration, wrapped to (−180°, 180°], and, for a
+    planar link, given also as its absolute direction in [0°, 360°)
+    (:func:`symkin.paths.trace.relative_angle`); ``unit`` is ``deg``, ``rad`` or
+    ``(model length units)``.
+
+    >>> format_coordinate("rotation:crank", -53.91904574, 23.55214655, "deg")
+    'rotation:crank = -53.91904574 deg (absolute 23.55214655 deg)'
+    """
+    text = f"{label} = {relative:.10g} {unit}"
+    return text if absolute is None else f"{text} (absolute {absolute:.10g} {unit})"
+
+
+def format_outputs(values: dict, kinds: dict, unit: str) -> str:
+    """The model's outputs ``{label: {"relative", "absolute"}}`` as ``a = …, b = …`` (see :func:`format_coordinate`).
+
+    ``kinds`` maps each label to ``"angle"`` or ``"length"``.
+    """
+    return ", ".join(format_coordinate(label, v["relative"], v["absolute"],
+                                       unit if kinds[label] == "angle" else "(model length units)")
+                     for label, v in values.items())
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ import json
 import sys
 import warnings
 
-from symkin.commands import Output
+from symkin.commands import Output, format_outputs
 from symkin.commands.analyze import tolerance
 from symkin.commands import in_file
 from symkin.errors import SymkinError
@@ -62,8 +62,9 @@ def _values(text: str) -> list[float]:
 
 
 def _text(result) -> str:
+    from symkin.paths.trace import CoordinateValues
+
     mech = result.mechanism
-    u = result.unit if result.kind == "angle" else "(model length units)"
     lines = [f"{mech.name}: {len(result.circuits)} circuit(s), {len(result.singularities)} singular "
              f"configuration(s), input {result.input} ({result.seconds:.1f} s).", ""]
     for c in result.circuits:
@@ -71,10 +72,12 @@ def _text(result) -> str:
         lines.append(f"circuit {c.index}: {len(c.branches)} traced branch(es), {what}"
                      + ("" if c.closed else " (NOT closed)"))
     lines.append("")
+    labels = [result.input] + ([] if result.output is None else [result.output])
+    values = CoordinateValues(mech, labels)
+    kinds = {c.label: c.kind for c in values.coordinates}
     for k, s in enumerate(result.singularities, 1):
-        out = "" if s.output is None else f", {result.output} = {s.output:.10g}"
-        lines.append(f"{k}. circuit {s.circuit}: {', '.join(s.types) or 'none'} (L = {s.dof}) at "
-                     f"{result.input} = {s.input:.10g} {u}{out}")
+        at = format_outputs(values(s.configuration, result.unit), kinds, result.unit)
+        lines.append(f"{k}. circuit {s.circuit}: {', '.join(s.types) or 'none'} (L = {s.dof}) at {at}")
         for n in mech.free_nodes:
             lines.append(f"   {n} = ({', '.join(f'{c:.10g}' for c in s.configuration[n])})")
     lines.append("")
