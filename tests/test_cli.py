@@ -242,3 +242,25 @@ def test_path_csv_and_modes_give_the_outputs(capsys, tmp_path):
     code, out, _ = run(capsys, "modes", model, "--at", "rotation:crank=30", "--json")
     sols = json.loads(out)["solutions"]
     assert sorted(round(s["outputs"]["rotation:rocker"]["relative"], 6) for s in sols) == [20.922794, 125.636035]
+
+
+def test_map_says_what_rejected_points_and_branch_changes_mean(capsys, monkeypatch):
+    """``symkin map`` explains its rejected points and branch changes: whether to trust the map, what to do."""
+    import dataclasses
+
+    import numpy as np
+
+    import symkin
+    from symkin.workspace import maps
+
+    real = symkin.workspace_map(symkin.catalogue.get("five_bar"), x="velocity:P.x=-3.5:3.5",
+                                y="velocity:P.y=0.2:4.4", n=11, refine=False)
+    rejected = np.zeros_like(real.modes[0].rejected)
+    rejected[3, 3] = True
+    mode = dataclasses.replace(real.modes[0], rejected=rejected, branch_changes=(((1, 1), (1, 2)),))
+    monkeypatch.setattr(maps, "workspace_map", lambda *a, **k: dataclasses.replace(real, modes=(mode,)))
+    code, out, _ = run(capsys, "map", "catalogue:five_bar", "--x", "velocity:P.x=-3.5:3.5",
+                       "--y", "velocity:P.y=0.2:4.4", "--n", "11", "--no-refine")
+    assert code == 0
+    assert "1 rejected point(s): " in out and "never a wrong value" in out and "give a larger --n" in out
+    assert "1 branch change(s): " in out and "can be trusted" in out and "its own --seed" in out

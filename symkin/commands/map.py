@@ -150,6 +150,25 @@ def _progress(enabled: bool, total: int):
     return tqdm(total=total, desc="map", unit="pt", file=sys.stderr, leave=False)
 
 
+def _trust(mode) -> list[str]:
+    """What a mode's rejected points and branch changes mean for the map, and what to do about them."""
+    lines = []
+    if mode.rejected.any():
+        lines.append(f"   {int(mode.rejected.sum())} rejected point(s): there the continuation from a neighbour "
+                     "landed too far from its prediction, or on another DKP sign pattern, even in sub-steps, so "
+                     "the point is left unassembled (a hole in the map, never a wrong value). The other points "
+                     "can be trusted; a few isolated holes near a singular curve are harmless, many mean the grid "
+                     "is too coarse for this mode: give a larger --n.")
+    if mode.branch_changes:
+        lines.append(f"   {len(mode.branch_changes)} branch change(s): between these pairs of neighbouring grid "
+                     "points (--json: modes[].branch_changes) the continuation of one mode reached configurations "
+                     "that do not join up, so the mode is not one sheet over the box there (two working modes meet, "
+                     "usually across a singular curve) and the map shows one of them. Values away from these "
+                     "points can be trusted; near them, map each working mode from its own --seed, and give a "
+                     "larger --n if they lie off every singular curve.")
+    return lines
+
+
 def _text(m) -> str:
     ax, ay = m.axes
     lines = [f"{m.model}: map over {ax.label} = {ax.lo:g}..{ax.hi:g} ({ax.n} points) × "
@@ -163,6 +182,7 @@ def _text(m) -> str:
                         if mode.rejected.any() else "")
                      + (f", {len(mode.branch_changes)} branch change(s)" if mode.branch_changes else ""))
         lines.append("   curves/points: " + ", ".join(f"{k} {v}" for k, v in c.items()))
+        lines += _trust(mode)
         if mode.note:
             lines.append(f"   {mode.note}")
     if not m.assembled_anywhere:
