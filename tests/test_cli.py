@@ -264,3 +264,26 @@ def test_map_says_what_rejected_points_and_branch_changes_mean(capsys, monkeypat
     assert code == 0
     assert "1 rejected point(s): " in out and "never a wrong value" in out and "give a larger --n" in out
     assert "1 branch change(s): " in out and "can be trusted" in out and "its own --seed" in out
+
+
+@pytest.mark.parametrize("option", ["--version", "--help"])
+def test_version_and_help_import_neither_scipy_nor_casadi(option):
+    """``symkin --version`` / ``--help`` are fast: the command modules and ``import symkin`` load no heavy library."""
+    code = ("import sys, symkin.cli\n"
+            f"try:\n    symkin.cli.main([{option!r}])\nexcept SystemExit:\n    pass\n"
+            "print(sorted(m for m in ('scipy', 'casadi', 'sympy', 'matplotlib') if m in sys.modules))")
+    run_ = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert run_.returncode == 0, run_.stderr
+    assert run_.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_lazy_public_names_are_the_real_ones():
+    import symkin
+    from symkin.analysis.classification import analyze
+    from symkin.analysis.batch import evaluators
+
+    assert symkin.analyze is analyze and symkin.evaluators is evaluators
+    assert set(symkin.__all__) <= set(dir(symkin))
+    assert symkin.report.render_text is symkin.render_text
+    with pytest.raises(AttributeError):
+        symkin.no_such_name

@@ -3,10 +3,8 @@ from __future__ import annotations
 
 import json
 
-from symkin.analysis.classification import analyze
 from symkin.commands import Output
 from symkin.model.model_file import read_model
-from symkin.report import render_text
 
 NAME = "analyze"
 HELP = "analyse the configuration of a model file (DOF, IM, DKP, LIM, constraint singularities)"
@@ -33,6 +31,9 @@ def add_arguments(p) -> None:
 
 
 def run(args) -> Output:
+    from symkin.analysis.classification import analyze
+    from symkin.report import render_text
+
     mech = read_model(args.model)
     result = analyze(mech, tol=args.tol)
     if args.json:
