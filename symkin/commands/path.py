@@ -7,8 +7,8 @@ import json
 import math
 import sys
 
-from symkin.commands import (Output, finite_number, format_coordinate, format_outputs, in_file, positive_number,
-                             write_output)
+from symkin.commands import (LENGTH_UNITS, Output, finite_number, format_coordinate, format_outputs, in_file,
+                             positive_number, write_output)
 from symkin.commands.analyze import tolerance
 from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
@@ -64,7 +64,7 @@ def _progress_bar(enabled: bool):
 def _text(path, unit: str) -> str:
     from symkin.paths.trace import CoordinateValues
 
-    u = unit if path.kind == "angle" else "(model length units)"
+    u = unit if path.kind == "angle" else LENGTH_UNITS
     outputs = CoordinateValues(path.mechanism)
     kinds = {c.label: c.kind for c in outputs.coordinates}
     lines = [f"{path.mechanism.name}: {path.drive} traced, {len(path.points)} points; "
@@ -101,7 +101,7 @@ def _text(path, unit: str) -> str:
 def _csv(path, unit: str) -> str:
     """The points as CSV: ``input`` (along the path), ``absolute`` ([0°, 360°)), ``s``, ``relative``
     ((−180°, 180°]), the indicators, each output (relative, and ``<label> absolute`` for a planar
-    angle), then the node coordinates."""
+    angle or a node's coordinate), then the node coordinates."""
     from symkin.paths.trace import CoordinateValues
 
     outputs = CoordinateValues(path.mechanism)

@@ -137,8 +137,9 @@ class CoordinateValues:
     def __call__(self, configuration, unit: str = "rad") -> dict:
         """``{label: {"relative": r, "absolute": a}}`` at ``configuration`` ((n, dim) array or node dict).
 
-        Angles in ``unit`` by the convention of :func:`relative_angle` (``absolute`` None where
-        the coordinate has none: lengths, spatial rotations); lengths in model units.
+        Angles in ``unit`` by the convention of :func:`relative_angle` (``absolute`` None for a
+        spatial rotation); lengths in model units, ``absolute`` the node's coordinate for
+        ``velocity:N.x`` (as a map's axes take it), None for a slide.
         """
         if isinstance(configuration, dict):
             configuration = [configuration[n] for n in self.mech.node_names]
@@ -154,8 +155,15 @@ class CoordinateValues:
                 out[c.label] = {"relative": relative_angle(float(v)) * conv,
                                 "absolute": None if a is None else a * conv}
             else:
-                out[c.label] = {"relative": float(v), "absolute": None}
+                out[c.label] = {"relative": float(v), "absolute": _node_coordinate(self.mech, c, x)}
         return out
+
+
+def _node_coordinate(mech: Mechanism, c: InputCoordinate, x: np.ndarray) -> float | None:
+    """The absolute value of a node's coordinate label (``velocity:P.x`` → x of P, as a map's axes); else None."""
+    if c.parameter.kind != "velocity" or c.component is None:
+        return None
+    return float(x[mech.node_index()[c.parameter.target[0]], c.component])
 
 
 @dataclass(frozen=True)

@@ -292,3 +292,17 @@ def test_trace_results_honour_the_unit_asked_for():
     out = deg.outputs(deg.singular_events()[-1])
     assert out["rotation:rocker"]["relative"] == pytest.approx(-24.24725354, abs=1e-7)
     assert out["rotation:rocker"]["absolute"] == pytest.approx(61.3540411, abs=1e-6)
+
+
+def test_coordinate_values_relative_and_absolute():
+    """A node coordinate's absolute value is the coordinate (as a map's axes); a length is not wrapped."""
+    from symkin.paths.trace import CoordinateValues
+
+    m = catalogue.get("five_bar")
+    x = np.array([c for _, c in m.nodes], float)
+    x[m.node_index()["P"], 0] += 0.5  # values are expressions of the coordinates: no closure needed
+    v = CoordinateValues(m, ["velocity:P.x", "velocity:P.y", "rotation:crank1"])(x, unit="deg")
+    assert v["velocity:P.x"] == {"relative": 0.5, "absolute": 0.5}
+    assert v["velocity:P.y"] == {"relative": 0.0, "absolute": 2.0}
+    assert v["rotation:crank1"]["relative"] == 0.0
+    assert v["rotation:crank1"]["absolute"] == pytest.approx(180 - math.degrees(math.atan2(0.8, 0.6)), abs=1e-12)
