@@ -78,6 +78,11 @@ class Tolerances:
         Relative step below which the singular-point locator of :mod:`symkin.curves`
         (branch points, rank drops, deflated systems whose residual cannot reach ``newton``
         in floating point) stops (default ``1e-14``: a few roundings of ``‖z‖``).
+    pinv : float
+        Relative cutoff of the minimum-norm least-squares steps on systems that may be rank
+        deficient (the closure of an over-constrained mechanism, whose redundant rows make
+        its Jacobian singular): singular values below ``pinv · σ_max`` are treated as zero
+        (default ``1e-12``: a rank deficiency at the rounding level of an O(1) Jacobian).
     kernel_margin : float
         Factor on singular values by which the generated indicator kernel must clear the
         rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
@@ -94,6 +99,7 @@ class Tolerances:
     newton: float = 1e-12
     closure: float = 1e-13
     locate: float = 1e-14
+    pinv: float = 1e-12
 
     @property
     def event_threshold(self) -> float:

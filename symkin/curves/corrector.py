@@ -162,18 +162,24 @@ def gauss_newton(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], z0:
     return Correction(z, bool(res <= tol), res, max_iterations, best)
 
 
-def stacked_steps(jac: np.ndarray, r: np.ndarray) -> np.ndarray:
+def stacked_steps(jac: np.ndarray, r: np.ndarray, rcond: float | None = None) -> np.ndarray:
     """Gauss–Newton steps ``-J_k⁺ r_k`` for stacked systems ``jac`` (N, m, n), ``r`` (N, m).
 
-    Square systems are solved at once (``np.linalg.solve`` on the stack); where one is
-    singular, or the systems are not square, each step is the minimum-norm least-squares
-    step (an exactly singular square problem is a configuration on a family of solutions,
-    Fig. 14 of the paper: the minimum-norm step converges onto the family).  NaN rows where
-    a system is not finite.
+    Without ``rcond``, square systems are solved at once (``np.linalg.solve`` on the
+    stack); where one is singular, or the systems are not square, each step is the
+    minimum-norm least-squares step (an exactly singular square problem is a configuration
+    on a family of solutions, Fig. 14 of the paper: the minimum-norm step converges onto
+    the family).  With ``rcond`` every step is the minimum-norm step on the singular values
+    above ``rcond·σ_max`` (stacked pseudo-inverse): for systems that may be rank deficient
+    (an over-constrained mechanism's closure).  NaN rows where a system is not finite.
     """
     n_pts, m, n = jac.shape
     out = np.full((n_pts, n), np.nan)
     finite = np.all(np.isfinite(jac), axis=(1, 2)) & np.all(np.isfinite(r), axis=1)
+    if rcond is not None:
+        if np.any(finite):
+            out[finite] = -(np.linalg.pinv(jac[finite], rcond=rcond) @ r[finite][:, :, None])[:, :, 0]
+        return out
     if m == n and np.all(finite):
         try:
             return -np.linalg.solve(jac, r[:, :, None])[:, :, 0]
@@ -189,13 +195,15 @@ def stacked_steps(jac: np.ndarray, r: np.ndarray) -> np.ndarray:
 
 def gauss_newton_batch(fun: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]], z0: np.ndarray, *,
                        tol: float = DEFAULT.newton, max_iterations: int = 12, diverge_after: int = 3,
-                       norm: str = "max", return_jacobian: bool = False) -> BatchCorrection:
+                       norm: str = "max", return_jacobian: bool = False,
+                       rcond: float | None = None) -> BatchCorrection:
     """Gauss–Newton on many points at once; ``fun(Z, index) -> (F (k, m), F' (k, m, n))``.
 
     ``Z`` holds the points still iterating and ``index`` their rows in ``z0`` (so that a
     caller with per-point targets picks them).  A point converges when its residual is at
     most ``tol``; it is dropped (not converged) when its step is not finite or, from
     iteration ``diverge_after`` on, its residual grows (Newton diverges: no solution near).
+    Steps as :func:`stacked_steps` (``rcond`` for systems that may be rank deficient).
     """
     z = np.array(np.atleast_2d(z0), dtype=float)
     n_pts = z.shape[0]
@@ -229,7 +237,7 @@ def gauss_newton_batch(fun: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray,
         active, r, j = active[keep], r[keep], j[keep]
         if active.size == 0 or it == max_iterations:
             break
-        step = stacked_steps(j, r)
+        step = stacked_steps(j, r, rcond)
         ok = np.all(np.isfinite(step), axis=1)
         z[active[ok]] += step[ok]
         iterations[active] = it + 1

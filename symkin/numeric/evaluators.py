@@ -69,6 +69,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from symkin.curves.corrector import gauss_newton
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.casadi_model import CasadiModel, build
 from symkin.numeric.linalg import independent_rows
@@ -313,6 +314,10 @@ class Evaluators:
         return compile_evaluators(self, cache_dir=cache_dir, compiler=compiler, flags=flags, force=force)
 
 
+#: a generic configuration near the model's, for choosing the independent rows J_S: the model's
+#: perturbed by this many length scales (random, seeded), then projected onto the closure
+_GENERIC_OFFSET = 1e-3
+
 def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: int, tol: float):
     """Constraint rows to build the motion space from: ``rank`` independent rows of ``J_e``.
 
@@ -328,16 +333,16 @@ def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: in
     je = ca.densify(jf[list(effective), :])
     f_je = ca.Function("je", [q], [je])
     f_cl = ca.Function("cl", [q, p], [ca.densify(cm.closure), ca.densify(ca.jacobian(cm.closure, q))])
-    q0 = cm.q0()
+    q0, ell = cm.q0(), cm.mech.length_scale
     rng = np.random.default_rng(0)
-    qg = q0 + 1e-3 * cm.mech.length_scale * rng.standard_normal(q0.size)
-    for _ in range(30):
-        phi, jac = (np.array(v) for v in f_cl(qg, cm.p0))
-        if np.max(np.abs(phi)) <= 1e-13 * cm.mech.length_scale:
-            break
-        qg = qg - np.linalg.pinv(jac, rcond=1e-12) @ phi.ravel()
-    else:
-        qg = q0
+
+    def closure(y):  # dimensionless: phi(ℓ y) / ℓ and its Jacobian in y
+        phi, jac = f_cl(ell * y, cm.p0)
+        return np.array(phi).ravel() / ell, np.array(jac)
+
+    fit = gauss_newton(closure, q0 / ell + _GENERIC_OFFSET * rng.standard_normal(q0.size),
+                       tol=DEFAULT.closure, max_iterations=30, norm="max", rcond=DEFAULT.pinv)
+    qg = ell * fit.z if fit.converged else q0
     jn = np.array(f_je(qg))
     chosen = independent_rows(jn, tol)
     if len(chosen) != rank:

@@ -10,7 +10,9 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from symkin.curves.corrector import gauss_newton_batch
 from symkin.errors import NotConvergedError, SymkinError
+from symkin.tolerances import DEFAULT
 
 __all__ = ["map_function", "project", "fast_caller", "as_configurations"]
 
@@ -165,33 +167,26 @@ def fast_caller(ev):
 
 
 # ---------------------------------------------------------------------- projection
-def project(ev, configurations, p=None, tol: float = 1e-12, max_iter: int = 25) -> np.ndarray:
+def project(ev, configurations, p=None, tol: float = DEFAULT.newton, max_iter: int = 25) -> np.ndarray:
     """Newton projection of configurations onto ``phi(q, p) = 0`` (minimum-norm steps).
 
-    Converged when ``max |phi| <= tol · length_scale``.  Returns an array like the input.
+    One batched Gauss–Newton (:func:`symkin.curves.corrector.gauss_newton_batch`) on the
+    closure: converged when ``max |phi| <= tol · ℓ`` (``ℓ`` the model's length scale).  Returns an array like the input.
     """
     q = as_configurations(ev, configurations).copy()
     scale = ev.mech.length_scale
-    active = np.arange(q.shape[0])
-    for _ in range(max_iter + 1):
-        if active.size == 0:
-            break
-        res = map_function(ev, "closure_jacobian", q[active], p)
-        phi = res["phi"].reshape(active.size, -1)
-        jac = res["dphi_dq"].reshape((active.size,) + ev.functions["closure_jacobian"].size_out(1))
-        err = np.max(np.abs(phi), axis=1) if phi.size else np.zeros(active.size)
-        done = err <= tol * scale
-        active_next = active[~done]
-        if active_next.size == 0:
-            active = active_next
-            break
-        phi, jac = phi[~done], jac[~done]
-        step = np.linalg.pinv(jac, rcond=1e-12) @ phi[:, :, None]
-        q[active_next] -= step[:, :, 0]
-        active = active_next
-    if active.size:
-        res = map_function(ev, "closure", q[active], p)["phi"]
-        raise NotConvergedError(f"{active.size} configuration(s) did not close within {max_iter} "
-                                "Newton steps", indices=active.tolist(),
-                                residual=float(np.max(np.abs(res))))
+    shape = ev.functions["closure_jacobian"].size_out(1)
+
+    def closure(qq, index):  # in model units; the tolerance below carries the length scale
+        res = map_function(ev, "closure_jacobian", qq, p)
+        return res["phi"].reshape(qq.shape[0], -1), res["dphi_dq"].reshape((qq.shape[0],) + shape)
+
+    fit = gauss_newton_batch(closure, q, tol=tol * scale, max_iterations=max_iter, diverge_after=max_iter + 1,
+                             rcond=DEFAULT.pinv)
+    q = fit.z
+    if not np.all(fit.converged):
+        bad = np.flatnonzero(~fit.converged)
+        raise NotConvergedError(f"{bad.size} configuration(s) did not close within {max_iter} "
+                                "Newton steps", indices=bad.tolist(),
+                                residual=float(np.max(fit.residual[bad])))
     return q if np.ndim(configurations) == 2 else q[0]
