@@ -104,10 +104,12 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
         if annotate:
             ax.annotate(str(n), (s.input, y), textcoords="offset points", xytext=(6, 6), fontsize=9, zorder=6)
     unit_in = ("deg" if deg else "rad") if angle_in else "model length"
-    ax.set_xlabel(f"input {result.input} [{unit_in}]")
+    # the angle convention of every command: relative to the model's configuration, wrapped
+    relative = ", from the model's configuration, in " + ("(−180°, 180°]" if deg else "(−π, π]")
+    ax.set_xlabel(f"input {result.input} [{unit_in}]" + (relative if angle_in else ""))
     if has_output:
         unit_out = ("deg" if deg else "rad") if angle_out else "model length"
-        ax.set_ylabel(f"output {result.output} [{unit_out}]")
+        ax.set_ylabel(f"output {result.output} [{unit_out}]" + (relative if angle_out else ""))
     else:
         ax.set_ylabel("arclength along the branch (model length scales)")
     ax.set_title(f"{result.mechanism.name}: {len(result.circuits)} circuit(s), "

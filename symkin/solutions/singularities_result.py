@@ -201,10 +201,25 @@ class Singularities:
         return None if None in values else True
 
     def to_dict(self) -> dict:
-        """``{"circuits": n, "singularities": [...], ...}``: the ``--json`` of ``symkin singularities``."""
+        """``{"circuits": n, "singularities": [...], ...}``: the ``--json`` of ``symkin singularities``.
+
+        Each singularity's ``input`` / ``output`` are relative to the model, in (−180°, 180°];
+        ``input_absolute`` / ``output_absolute`` the absolute angles in [0°, 360°) (a node's
+        coordinate for ``velocity:N.x``; None for a slide or a spatial rotation), in ``unit``:
+        the one angle convention, :func:`symkin.paths.trace.relative_angle`.
+        """
+        from symkin.paths.trace import CoordinateValues
+
         conv = self._conv()
+        labels = [self.input] + ([] if self.output is None else [self.output])
+        values = CoordinateValues(self.mechanism, labels)
+        singular = []
+        for s in self.singularities:  # the absolute values too, as every command gives them
+            at = values(s.configuration, self.unit)
+            singular.append({**s.to_dict(), "input_absolute": at[self.input]["absolute"],
+                             **({} if self.output is None else {"output_absolute": at[self.output]["absolute"]})})
         return {"mechanism": self.mechanism.name, "circuits": len(self.circuits),
-                "singularities": [s.to_dict() for s in self.singularities],
+                "singularities": singular,
                 "input_label": self.input, "output_label": self.output, "unit": self.unit,
                 "agree": self.agree, "cross_check": [c.to_dict() for c in self.checks],
                 "circuit_list": [c.to_dict(conv) for c in self.circuits],
