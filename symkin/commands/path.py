@@ -6,6 +6,7 @@ import io
 import json
 import math
 import sys
+from dataclasses import replace
 
 from symkin.commands import (LENGTH_UNITS, Output, finite_number, format_coordinate, format_outputs, in_file,
                              positive_number, write_output)
@@ -127,7 +128,8 @@ def run(args) -> Output:
     from symkin.paths.continuation import Settings
 
     mech = read_model(args.model)
-    most = Settings().max_steps
+    settings = Settings()
+    most = settings.max_steps
     limit = most // 2  # room for the steps that are halved and retried
     if args.steps is not None and args.steps < 1:
         raise SymkinError(f"{args.model}: --steps must be a positive integer")
@@ -146,12 +148,17 @@ def run(args) -> Output:
     bar, update = _progress_bar(not args.no_progress and not args.json)
     try:
         path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
-                     max_arclength=args.max_arclength, progress=update, steps=args.steps, tol=args.tol)
+                     max_arclength=args.max_arclength, progress=update, steps=args.steps, tol=args.tol,
+                     settings=settings)
     except SymkinError as exc:
         raise in_file(exc, args.model)
     finally:
         if bar is not None:
             bar.close()
+    if path.stop_reason == "max_steps":
+        path = replace(path, message=f"the step budget ran out: {most} accepted steps were taken before the input "
+                                     "reached its target; give fewer --steps, or split --from/--to into shorter "
+                                     "ranges")
     notes = []
     if args.plot:
         from symkin.plots import save_path_figures

@@ -38,7 +38,7 @@ from symkin.curves.stepper import CurvePoint, CurveProblem
 from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT
 
-__all__ = ["EventType", "SingularEvent", "StopRule", "ParameterReached", "Closed", "ArclengthLimit", "LeftBox",
+__all__ = ["EventType", "SingularEvent", "StopRule", "ParameterReached", "Closed", "ArclengthLimit", "StepBudget", "LeftBox",
            "TestFunction", "FLAT", "ROOT", "DETECT"]
 
 #: a signed test below this at both ends of a step is identically zero there: no isolated root
@@ -228,6 +228,29 @@ class ArclengthLimit(StopRule):
 
     def reached(self, point, parameter) -> bool:
         return point.s > self.limit
+
+
+@dataclass(frozen=True)
+class StepBudget(StopRule):
+    """The stepper's budget of ``steps`` accepted steps (``Settings.max_steps``) ran out.
+
+    Decided by the stepper, not per point (:meth:`reached` is always false): the tracer ends
+    with this rule when :func:`~symkin.curves.stepper.continue_curve` has taken its last step.
+
+    >>> StepBudget(20000).reason
+    'max_steps'
+    """
+
+    steps: int
+    reason: str = "max_steps"
+
+    @property
+    def message(self) -> str:
+        return (f"the step budget ran out: {self.steps} accepted steps (Settings.max_steps) were taken before the "
+                "curve reached any other stop; raise it with settings=Settings(max_steps=...)")
+
+    def reached(self, point, parameter) -> bool:
+        return False  # decided by the stepper running out of steps
 
 
 @dataclass(frozen=True)

@@ -75,7 +75,8 @@ class Settings:
     predictor converges in 2–4); ``max_corrector_distance`` the largest move of the
     corrector relative to ``h`` (beyond it the corrector may have jumped to another
     branch); ``max_turn`` the largest tangent turn per step (0.35 rad, 20°: the same
-    guard); ``max_steps`` accepted steps at most.
+    guard); ``max_steps`` accepted steps at most (a budget: when it runs out the stepper ends,
+    and :func:`symkin.curves.tracer.trace_curve` says so with the stop reason ``"max_steps"``).
     """
 
     step: float = 0.05
@@ -232,7 +233,8 @@ def continue_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray,
     """Yield points along the curve from ``y0`` in the direction of ``t0``.
 
     ``y0`` must be on the curve (see :func:`correct`).  Iteration ends when ``stop(point)``
-    is true, after ``settings.max_steps``, or by the caller; a problem with a
+    is true, after ``settings.max_steps`` accepted steps (the budget ran out: the generator
+    simply ends), or by the caller; a problem with a
     ``fast_corrector`` (module docstring) has its Newton steps and tangents computed by it.
     Raises :class:`SteppingError` when the step falls below ``settings.min_step``.
     ``guard(previous, y)`` may reject a corrected point (the step is then halved), e.g. to

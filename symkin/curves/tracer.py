@@ -31,7 +31,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from symkin.curves.events import ArclengthLimit, Closed, EventType, ParameterReached, StopRule
+from symkin.curves.events import Closed, EventType, ParameterReached, StepBudget, StopRule
 from symkin.curves.locate import CurveEvent, locate_sign_change, polish
 from symkin.curves.stepper import CurvePoint, CurveProblem, Settings, SteppingError, continue_curve
 from symkin.errors import NotConvergedError
@@ -162,7 +162,9 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
         meets it again), ``closure`` and ``rank`` polish them.
 
     A :class:`~symkin.curves.stepper.SteppingError` or a corrector failure ends the trace
-    with reason ``"stuck"`` and the error's message.
+    with reason ``"stuck"`` and the error's message; a stepper that took its
+    ``settings.max_steps`` accepted steps before any rule fired ends it with reason
+    ``"max_steps"`` (:class:`~symkin.curves.events.StepBudget`).
     """
     param = parameter if parameter is not None else (lambda y, ref: 0.0)
     merged = _Merged(tolerances.same_configuration, priority, settings.max_step)
@@ -171,9 +173,6 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
     located = [r for r in stops if isinstance(r, ParameterReached)]
     closed = [r for r in stops if isinstance(r, Closed)]
     after = [r for r in stops if not isinstance(r, (ParameterReached, Closed))]
-    limit = next((r for r in after if isinstance(r, ArclengthLimit)), None)
-    stop = (Stop(limit.reason, limit.message, None, limit) if limit is not None else
-            Stop("max_steps", f"the step limit ({settings.max_steps} steps) was reached"))
 
     def record(result, reference: float) -> None:
         if result is None:
@@ -218,6 +217,9 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
             if rule is not None:
                 stop = Stop(rule.reason, rule.message, None, rule, TracedPoint(cp, p))
                 break
+        else:  # the stepper took its last step: no rule ended the trace
+            budget = StepBudget(settings.max_steps)
+            stop = Stop(budget.reason, budget.message, None, budget, points[-1] if points else None)
     except (SteppingError, NotConvergedError) as exc:
         stop = Stop("stuck", str(exc))
     return TracedCurve(tuple(points), merged.events(), stop)

@@ -250,8 +250,9 @@ class Path:
     ``stop_reason`` is ``"reached"`` (the input reached its target), ``"closed"`` (a full loop
     back to the start), ``"unreachable"`` (a full loop back to the start on which the input
     turns back short of its target: ``turning_input`` / ``turning_absolute`` say where, and
-    ``message`` too), ``"max_arclength"`` or ``"stuck"`` (the step size collapsed;
-    ``message`` says where).  Angles are kept in radians; :meth:`to_dict` converts.
+    ``message`` too), ``"max_arclength"``, ``"max_steps"`` (the continuation's budget of
+    ``Settings.max_steps`` accepted steps ran out first; ``message`` names the count and how to
+    raise it) or ``"stuck"`` (the step size collapsed; ``message`` says where).  Angles are kept in radians; :meth:`to_dict` converts.
     """
 
     mechanism: Mechanism = field(repr=False)
