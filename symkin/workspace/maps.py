@@ -46,7 +46,7 @@ from symkin.model.mechanism import Mechanism
 from symkin.tolerances import Tolerances
 from symkin.workspace.grid import GRID_ARRAYS, Axis, ModeArrays, ModeGrid, continue_mode, make_axes
 from symkin.workspace.modes import model_modes
-from symkin.workspace.system import map_system
+from symkin.workspace.system import map_system, window_note
 
 __all__ = ["MapCurve", "MapPoint", "ModeMap", "WorkspaceMap", "workspace_map", "load_map", "KINDS"]
 
@@ -326,16 +326,18 @@ def workspace_map(mech: Mechanism, x: str = "velocity:P.x=-3.5:3.5", y: str = "v
                                  progress=progress, _tiled=(parallel, dask, int(tile or parallel.TILE)))
     (lx, x_lo, x_hi), (ly, y_lo, y_hi), (nx, ny) = make_axes(x, y, n)
     if _tiled is not None:  # the process's one copy of the problem, as every worker builds it from plain data
-        spec = _tiled[0].MapSpec.of(mech, lx, ly, hold, unit, tolerances)
+        spec = _tiled[0].MapSpec.of(mech, lx, ly, hold, unit, tolerances, windows=((x_lo, x_hi), (y_lo, y_hi)))
         system = _tiled[0].system_of(spec)
     else:
-        system = map_system(mech, lx, ly, hold=hold, unit=unit, tolerances=tolerances)
+        system = map_system(mech, lx, ly, hold=hold, unit=unit, tolerances=tolerances,
+                            windows=((x_lo, x_hi), (y_lo, y_hi)))
     axes = (Axis(system.axes[0].label, x_lo, x_hi, nx), Axis(system.axes[1].label, y_lo, y_hi, ny))
     xs_user, ys_user = axes[0].values, axes[1].values
     xs = system.to_internal(np.column_stack([xs_user, np.zeros(nx)]))[:, 0]
     ys = system.to_internal(np.column_stack([np.zeros(ny), ys_user]))[:, 1]
     seeds_q, merged = model_modes(system, seeds, modes, tolerances)
-    notes: list[str] = list(merged)
+    notes: list[str] = list(merged) + [w for w in (window_note(c, a.lo, a.hi, unit) for c, a in zip(system.axes, axes))
+                                       if w is not None]
     mode_maps: list[ModeMap] = []
     grids: list[ModeGrid] = []
     if _tiled is not None:  # ---- tiled / Dask path: every worker builds the problem from plain data

@@ -55,7 +55,8 @@ class MapSpec:
     """What a worker needs to build the map's :class:`MapSystem`: plain, picklable data.
 
     ``mech`` is :meth:`Mechanism.to_dict`; ``hold`` the holds as the user gave them
-    (labels, ``LABEL=VALUE`` strings or ``(label, value)`` pairs).
+    (labels, ``LABEL=VALUE`` strings or ``(label, value)`` pairs); ``windows`` the axes'
+    ranges (angle axes are measured modulo a turn on them: :func:`~symkin.workspace.system.map_system`).
     """
 
     mech: dict
@@ -64,11 +65,14 @@ class MapSpec:
     hold: tuple = ()
     unit: str = "deg"
     tolerances: Tolerances = field(default_factory=Tolerances)
+    windows: tuple | None = None
 
     @classmethod
-    def of(cls, mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg", tolerances=None) -> "MapSpec":
+    def of(cls, mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg", tolerances=None,
+           windows=None) -> "MapSpec":
         hold = tuple(h if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1])) for h in hold)
-        return cls(mech.to_dict(), x, y, hold, unit, Tolerances.of(tolerances))
+        windows = None if windows is None else tuple((float(lo), float(hi)) for lo, hi in windows)
+        return cls(mech.to_dict(), x, y, hold, unit, Tolerances.of(tolerances), windows)
 
     @property
     def key(self) -> str:
@@ -84,7 +88,7 @@ def system_of(spec: MapSpec) -> MapSystem:
     if key not in _SYSTEMS:
         mech = Mechanism.from_dict(spec.mech)
         _SYSTEMS[key] = map_system(mech, spec.x, spec.y, hold=spec.hold, unit=spec.unit,
-                                   tolerances=spec.tolerances)
+                                   tolerances=spec.tolerances, windows=spec.windows)
     return _SYSTEMS[key]
 
 

@@ -68,7 +68,7 @@ True
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import casadi as ca
 import numpy as np
@@ -82,7 +82,7 @@ from symkin.numeric.coordinates import InputCoordinate, accepted_input_labels, p
 from symkin.curves.corrector import gauss_newton_batch
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["MapCoordinate", "MapSystem", "map_system", "parse_hold", "UNITS", "NEWTON_TOL", "NEWTON_ITER"]
+__all__ = ["MapCoordinate", "MapSystem", "map_system", "turned", "window_note", "parse_hold", "UNITS", "NEWTON_TOL", "NEWTON_ITER"]
 
 #: angle units a map accepts, with their factor to radians
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -228,6 +228,46 @@ def map_coordinate(mech: Mechanism, label: str) -> MapCoordinate:
     c = parse_input_label(mech, label)
     x0 = np.array([v for _, v in mech.nodes], dtype=float)
     return MapCoordinate(c.label, c.kind, c, _offset(mech, c, x0))
+
+
+def turned(c: MapCoordinate, centre: float) -> MapCoordinate:
+    """``c`` measured on the model's branch of angles shifted by the whole turns that centre it on ``centre``.
+
+    An angle's absolute value is ``offset + coordinate`` with the coordinate in (−π, π] about the
+    model (:class:`MapCoordinate`); the offset moves by ``2π·k``, ``k`` the whole number of turns
+    nearest to ``(centre − offset) / 2π`` (halves rounded up), so that a map window and the
+    same window shifted by a turn are measured on branches one turn apart: angle windows are
+    taken modulo 360°.  Lengths and a spatial link's orientation components (not periodic)
+    are returned as they are.  ``centre`` in radians.
+
+    >>> from symkin.model.catalogue import get
+    >>> c = map_coordinate(get("five_bar"), "rotation:crank1")
+    >>> round(math.degrees(turned(c, math.radians(540)).offset - c.offset), 9)
+    360.0
+    """
+    if c.kind != "angle" or isinstance(c.coordinate, OrientationComponent) or not math.isfinite(centre):
+        return c
+    k = math.floor((centre - c.offset) / (2 * math.pi) + 0.5)
+    return replace(c, offset=c.offset + 2 * math.pi * k) if k else c
+
+
+def window_note(c: MapCoordinate, lo: float, hi: float, unit: str = "deg") -> str | None:
+    """A sentence when the window ``[lo, hi]`` (``unit``) of an angle axis reaches past its branch, else None.
+
+    The branch is ``(offset − π, offset + π]`` (:func:`turned`): the part of the window outside it
+    cannot assemble on this map (the same configurations are one turn away, inside the branch).
+    """
+    if c.kind != "angle" or isinstance(c.coordinate, OrientationComponent):
+        return None
+    f = UNITS[unit]
+    b_lo, b_hi = (c.offset - math.pi) / f, (c.offset + math.pi) / f
+    tol = 1e-9 * (abs(b_lo) + abs(b_hi))
+    if lo >= b_lo - tol and hi <= b_hi + tol:
+        return None
+    why = "is wider than a turn" if hi - lo > 2 * math.pi / f else "is not within one turn of it"
+    return (f"{c.label}: angles are taken modulo a turn, measured on ({b_lo:.6g}, {b_hi:.6g}] {unit} (the model's "
+            f"branch shifted by whole turns to the window); the window {lo:.6g}:{hi:.6g} {why}, and its part "
+            "outside that range cannot assemble on this map")
 
 
 def _holds_needed_text(mech: Mechanism, used: set[str]) -> str:
@@ -470,7 +510,7 @@ class MapSystem:
 
 
 def map_system(mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg",
-               tolerances: Tolerances | float | None = None) -> MapSystem:
+               tolerances: Tolerances | float | None = None, windows=None) -> MapSystem:
     """The position problem of a map of ``mech`` over axes ``x`` and ``y`` (labels).
 
     Parameters
@@ -486,6 +526,11 @@ def map_system(mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg",
         Unit of angle values given by the user (axes ranges, hold values).
     tolerances : Tolerances or float, optional
         The rank tolerance used for the independence checks.
+    windows : ((float, float), (float, float)), optional
+        The axes' ranges (``unit`` for angles).  An angle axis (and an angle held at a value)
+        is measured on the model's branch shifted by whole turns to the window's centre
+        (:func:`turned`): angle windows are taken modulo 360°, the map of ``360:720`` is
+        the map of ``0:360`` shifted.  Without it, the model's branch.
 
     Raises
     ------
@@ -519,10 +564,14 @@ def map_system(mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg",
                               f"--hold LABEL[=VALUE]{_holds_needed_text(mech, used)}")
         raise SymkinError(f"{mech.name}: F = {f}, so 2 axes need {need} held coordinate(s); {len(holds)} given "
                           f"({', '.join(c.label for c in holds)}): the position problem is over-determined")
+    if windows is not None:
+        axes = tuple(turned(c, 0.5 * (float(lo) + float(hi)) * (UNITS[unit] if c.kind == "angle" else 1.0))
+                     for c, (lo, hi) in zip(axes, windows))
     values = []
-    for c, (_, v) in zip(holds, pairs):
+    for k, (c, (_, v)) in enumerate(zip(holds, pairs)):
         if v is None:
             values.append(c.offset)  # the model's value
         else:
             values.append(v * (UNITS[unit] if c.kind == "angle" else 1.0))
+            holds = holds[:k] + (turned(c, values[-1]),) + holds[k + 1:]
     return MapSystem(mech, axes, holds, np.array(values, dtype=float), unit=unit, tolerances=tol)
