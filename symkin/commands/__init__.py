@@ -7,13 +7,10 @@ its name to ``COMMANDS`` to add a subcommand.
 """
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
-from typing import Callable
 
-from symkin.errors import ModelError, SymkinError, check_interrupt, interrupts_deferred
+from symkin.commands.outputs import check_output_folder, write_output  # noqa: F401  (re-exported)
+from symkin.errors import ModelError, SymkinError
 
 __all__ = ["COMMANDS", "Output", "in_file", "write_output", "finite_number", "positive_number",
            "non_negative_number", "check_holds", "check_output_folder", "format_coordinate", "format_outputs",
@@ -77,36 +74,6 @@ def in_file(exc: SymkinError, model: str) -> SymkinError:
     return exc
 
 
-def write_output(target, write: Callable[[Path], object]) -> Path:
-    """Write an output file whole or not at all: ``write(tmp)`` fills a temporary file in the
-    target's folder, which then replaces ``target`` with ``os.replace``.
-
-    An interrupt (or any error) before the replacement leaves ``target`` as it was and
-    removes the temporary file.
-    """
-    target = Path(target)
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    os.close(fd)
-    tmp = Path(name)
-    _readable(tmp)
-    try:
-        write(tmp)
-        check_interrupt()
-        with interrupts_deferred():
-            os.replace(tmp, target)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return target
-
-
-def _readable(path: Path) -> None:
-    """Give a temporary file (``mkstemp``: mode 0600) the mode a new file gets under the umask."""
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(path, 0o666 & ~mask)
-
-
 # ---------------------------------------------------------------------- numbers a user types
 def _number(text: str, what: str, test, ok: str) -> float:
     import argparse
@@ -150,23 +117,3 @@ def check_holds(holds, option: str = "--hold") -> None:
             raise SymkinError(f"{option} {text!r}: VALUE must be a number") from None
         if not math.isfinite(number):
             raise SymkinError(f"{option} {text!r}: VALUE must be a finite number")
-
-
-def check_output_folder(path, option: str) -> Path:
-    """The folder ``path`` (created if needed) or a :class:`SymkinError` saying why it cannot be written."""
-    folder = Path(path)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise SymkinError(f"{option} {folder}: cannot create the folder ({exc.strerror or exc})") from None
-    if not folder.is_dir():
-        raise SymkinError(f"{option} {folder}: exists and is not a folder")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise SymkinError(f"{option} {folder}: the folder is not writable")
-    try:
-        fd, probe = tempfile.mkstemp(prefix=".symkin-probe-", dir=folder)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise SymkinError(f"{option} {folder}: cannot write into the folder ({exc.strerror or exc})") from None
-    return folder

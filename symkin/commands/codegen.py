@@ -16,7 +16,8 @@ import shlex
 import time
 from pathlib import Path
 
-from symkin.commands import Output, check_output_folder, write_output
+from symkin.commands import Output
+from symkin.commands.outputs import check_output_folder, write_output
 from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 

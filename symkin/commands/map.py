@@ -6,7 +6,8 @@ import json
 import sys
 from pathlib import Path
 
-from symkin.commands import Output, check_holds, in_file, write_output
+from symkin.commands import Output, check_holds, in_file
+from symkin.commands.outputs import check_figure_file, check_output_file, save_output
 from symkin.commands.analyze import tolerance
 from symkin.errors import SymkinError
 from symkin.model.model_file import CATALOGUE_PREFIX, read_model
@@ -192,10 +193,10 @@ def _text(m) -> str:
     return "\n".join(lines)
 
 
-def _plot(m, target: str, mech) -> str:
+def _plot(m, target, mech):
     from symkin.plots.maps import save_map_figure
 
-    return f"figure written to {save_map_figure(m, target, mechanism=mech)}"
+    return save_map_figure(m, target, mechanism=mech)
 
 
 def run(args) -> Output:
@@ -204,9 +205,11 @@ def run(args) -> Output:
 
     mech = read_model(args.model)
     if args.plot:
-        from symkin.plots.extra import require_matplotlib
-
-        require_matplotlib("--plot")  # before the map is computed
+        check_figure_file(args.plot, "--plot")  # every output before the map is computed
+    if args.npz:
+        check_output_file(args.npz, "--npz")
+    if args.json not in (None, "-"):
+        check_output_file(args.json, "--json")
     if args.n < 2:
         raise SymkinError(f"{args.model}: --n {args.n}: the number of grid points per axis must be at least 2")
     try:
@@ -228,15 +231,20 @@ def run(args) -> Output:
     finally:
         if bar is not None:
             bar.close()
-    notes = []
+    notes, code = [], 0
     if args.npz:
-        notes.append(f"arrays written to {write_output(args.npz, m.save)}")
+        saved = save_output(args.npz, m.save, "--npz")
+        notes.append(saved.problem or f"arrays written to {saved.path}")
+        code = 1 if saved.problem else code
     if args.plot:
-        notes.append(_plot(m, args.plot, mech))
+        saved = save_output(args.plot, lambda tmp: _plot(m, tmp, mech), "--plot", figure=True)
+        notes.append(saved.problem or f"figure written to {saved.path}")
+        code = 1 if saved.problem else code
     if args.json is not None:
         text = json.dumps(m.to_dict(), indent=1)
         if args.json == "-":
-            return Output(text, message="\n".join(notes))
-        target = write_output(args.json, lambda tmp: tmp.write_text(text + "\n"))
-        notes.append(f"map written to {target}")
-    return Output(_text(m), message="\n".join(notes))
+            return Output(text, code=code, message="\n".join(notes))
+        saved = save_output(args.json, lambda tmp: tmp.write_text(text + "\n"), "--json")
+        notes.append(saved.problem or f"map written to {saved.path}")
+        code = 1 if saved.problem else code
+    return Output(_text(m), code=code, message="\n".join(notes))

@@ -9,7 +9,8 @@ import sys
 from dataclasses import replace
 
 from symkin.commands import (LENGTH_UNITS, Output, finite_number, format_coordinate, format_outputs, in_file,
-                             positive_number, write_output)
+                             positive_number)
+from symkin.commands.outputs import check_figure_file, check_output_file, save_output
 from symkin.commands.analyze import tolerance
 from symkin.errors import ModelError, SymkinError
 from symkin.model.model_file import read_model
@@ -142,9 +143,9 @@ def run(args) -> Output:
     if args.start == args.stop:
         raise SymkinError(f"{args.model}: --from and --to are equal: nothing to trace")
     if args.plot:
-        from symkin.plots.extra import require_matplotlib
-
-        require_matplotlib("--plot")  # before the path is traced
+        check_figure_file(args.plot, "--plot")  # before the path is traced
+    if args.csv:
+        check_output_file(args.csv, "--csv")
     bar, update = _progress_bar(not args.no_progress and not args.json)
     try:
         path = trace(mech, input=args.input, start=args.start, stop=args.stop, unit=args.unit,
@@ -159,15 +160,18 @@ def run(args) -> Output:
         path = replace(path, message=f"the step budget ran out: {most} accepted steps were taken before the input "
                                      "reached its target; give fewer --steps, or split --from/--to into shorter "
                                      "ranges")
-    notes = []
+    notes, code = [], 0
     if args.plot:
         from symkin.plots import save_path_figures
 
-        notes.append(f"figure written to {save_path_figures(path, args.plot, unit=args.unit)}")
+        saved = save_output(args.plot, lambda tmp: save_path_figures(path, tmp, unit=args.unit), "--plot", figure=True)
+        notes.append(saved.problem or f"figure written to {saved.path}")
+        code = 1 if saved.problem else code
     if args.csv:
         text = _csv(path, args.unit)
-        target = write_output(args.csv, lambda tmp: tmp.write_text(text))
-        notes.append(f"{len(path.points)} points written to {target}")
+        saved = save_output(args.csv, lambda tmp: tmp.write_text(text), "--csv")
+        notes.append(saved.problem or f"{len(path.points)} points written to {saved.path}")
+        code = 1 if saved.problem else code
     if args.json:
-        return Output(json.dumps(path.to_dict(args.unit), indent=1), message="\n".join(notes))
-    return Output(_text(path, args.unit), message="\n".join(notes))
+        return Output(json.dumps(path.to_dict(args.unit), indent=1), code=code, message="\n".join(notes))
+    return Output(_text(path, args.unit), code=code, message="\n".join(notes))

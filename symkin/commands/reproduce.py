@@ -4,6 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from symkin.commands import Output
+from symkin.commands.outputs import check_output_folder
 from symkin.errors import SymkinError
 from symkin.reproduce import find_examples_dir, run_all
 
@@ -25,6 +26,7 @@ def run(args) -> Output:
         where = args.examples or "./papers_examples"
         raise SymkinError(f"{where}: no papers_examples folder with check_*.py scripts found "
                           "(run from the repository, or pass --examples DIR)")
+    check_output_folder(args.out, "--out")  # before the checks run (created if needed)
     results = run_all(folder, Path(args.out))
     lines = [r.summary() for r in results]
     n_ok = sum(r.ok for r in results)

@@ -7,6 +7,7 @@ import warnings
 
 from symkin.commands import Output, format_outputs
 from symkin.commands.analyze import tolerance
+from symkin.commands.outputs import check_figure_file, save_output
 from symkin.commands import in_file
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
@@ -103,9 +104,7 @@ def run(args) -> Output:
 
     mech = read_model(args.model)
     if args.plot:
-        from symkin.plots.extra import require_matplotlib
-
-        require_matplotlib("--plot")
+        check_figure_file(args.plot, "--plot")  # before the circuits are computed
     try:
         options = {} if args.max_paths is None else {"max_paths": args.max_paths}
         if args.samples is not None:
@@ -123,12 +122,13 @@ def run(args) -> Output:
                 bar.close()
     except SymkinError as exc:
         raise in_file(exc, args.model)
-    message = ""
+    message, code = "", 0
     if args.plot:
         from symkin.plots.circuits import save_circuits_figure
 
-        save_circuits_figure(result, args.plot)
-        message = f"wrote {args.plot}"
+        saved = save_output(args.plot, lambda tmp: save_circuits_figure(result, tmp), "--plot", figure=True)
+        message = saved.problem or f"wrote {saved.path}"
+        code = 1 if saved.problem else 0
     if args.json:
-        return Output(json.dumps(result.to_dict(), indent=1), message=message)
-    return Output(_text(result), message=message)
+        return Output(json.dumps(result.to_dict(), indent=1), code=code, message=message)
+    return Output(_text(result), code=code, message=message)
