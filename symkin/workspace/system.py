@@ -261,7 +261,7 @@ def window_note(c: MapCoordinate, lo: float, hi: float, unit: str = "deg") -> st
         return None
     f = UNITS[unit]
     b_lo, b_hi = (c.offset - math.pi) / f, (c.offset + math.pi) / f
-    tol = 1e-9 * (abs(b_lo) + abs(b_hi))
+    tol = DEFAULT.geometry * (abs(b_lo) + abs(b_hi))
     if lo >= b_lo - tol and hi <= b_hi + tol:
         return None
     why = "is wider than a turn" if hi - lo > 2 * math.pi / f else "is not within one turn of it"
