@@ -114,7 +114,8 @@ from symkin.workspace.locate import locate_crossing, locate_double_zero, locate_
 from symkin.workspace.locus_problems import KINDS, OTHER_KIND, LocusProblems, LocusSystem
 from symkin.workspace.refine_data import Curve, GridData, RefineStats, SingularPoint
 from symkin.workspace.reseed import resolve_from_seed
-from symkin.workspace.singular_points import add_point
+from symkin.workspace.singular_points import add_point, one_per_family
+from symkin.workspace.locus_events import END_POINT
 from symkin.workspace.tracing import polyline_distance, trace_double_zero, trace_locus
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
@@ -227,8 +228,12 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     points: list[SingularPoint] = []
     dup_radius = 1.5 * cell
 
+    point_images: list = []  # (kind, [y]): "curves" whose image is one point (reported as a point)
+    families: list = []  # their axis points: one singular point each
+
     def on_traced(kind, y, radius):
-        return any(k == kind and polyline_distance(y, ys, c) <= radius for k, ys, c, _ in traced)
+        return (any(k == kind and polyline_distance(y, ys, c) <= radius for k, ys, c, _ in traced)
+                or any(k == kind and polyline_distance(y, ys, False) <= radius for k, ys in point_images))
 
     def near_traced(kinds, a):
         """Pre-check on the grid: the bracket's axis point within ``dup_radius`` of a traced curve."""
@@ -240,6 +245,13 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     def take(kind, y, tracer=None):
         before = pb.counter.n
         ys, closed, ends, end_ys, meets, cusps = (tracer or trace_locus)(pb, kind, y, box_d, settings, tol, boundary)
+        if ends == (END_POINT,):
+            # a family of configurations over one map point: one singular point, no curve, no seeds
+            stats.trace_evaluations += pb.counter.n - before
+            point_images.append((kind, ys))
+            families.append(pb.axes(ys[0]) * scale)
+            add_point(points, pb, sys_, ys[0], mode, scale, tol)
+            return
         seeds.extend(meets)
         end_ys = end_ys + meets
         stats.trace_evaluations += pb.counter.n - before
@@ -390,4 +402,4 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         subdivision = {d: sub for (d, _), sub in zip(ready, subs)}
         for d in found_dips:
             refine_dip(kind, *d, todo.get(d), subdivision.get(d))
-    return curves, points, stats
+    return curves, one_per_family(points, families, scale, tol), stats

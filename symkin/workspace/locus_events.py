@@ -40,7 +40,8 @@ from symkin.workspace.locus_problems import KINDS, LOCUS_NEWTON_TOL, POLISH_ITER
 
 __all__ = ["PointTests", "LeavesRegion", "OnBox", "NearIM", "IMMinimum", "LeavesDoubleZero", "CuspEvent",
            "LeavesBoundaryAt", "cusp_event",
-           "meeting_event", "im_end", "onto_box", "outside", "branch_test", "END_BOUNDARY", "END_BRANCH", "END_LEFT"]
+           "meeting_event", "im_end", "onto_box", "outside", "branch_test", "END_BOUNDARY", "END_BRANCH", "END_LEFT",
+           "END_POINT", "PointImage"]
 
 #: end of a curve that leaves the mode's assembled region (a fold of the mode's workspace)
 END_BOUNDARY = "boundary"
@@ -48,6 +49,8 @@ END_BOUNDARY = "boundary"
 END_BRANCH = "branch"
 #: end of a double-zero curve whose slope's zero set leaves the double zero
 END_LEFT = "left"
+#: end of a "curve" whose image in the axes is one point (:class:`PointImage`)
+END_POINT = "point"
 #: points whose tests :class:`PointTests` keeps (the tracer looks back at most two points)
 _CACHED_POINTS = 8
 
@@ -75,6 +78,11 @@ class PointTests:
         key = (np.asarray(y, float).tobytes(), np.asarray(t, float).tobytes())
         hit = self._branch.get(key)
         return hit if hit is not None else self._remember(self._branch, key, branch_test(self.problem, y, t))
+
+    def axes(self, y: np.ndarray) -> np.ndarray:
+        key = ("axes", np.asarray(y, float).tobytes())
+        hit = self._tests.get(key)
+        return hit if hit is not None else self._remember(self._tests, key, np.asarray(self.pb.axes(y), float))
 
     def velocity(self, y: np.ndarray, t: np.ndarray) -> np.ndarray:
         key = (np.asarray(y, float).tobytes(), np.asarray(t, float).tobytes())
@@ -282,6 +290,31 @@ class LeavesDoubleZero(StepRule):
     def check(self, problem, history, point):
         if not abs(self.at.tests(point.y)[self.kind]) <= self.tol.event_threshold:
             return StepEnd(self.reason, data=_Ending((), history[-1].y))
+        return None
+
+
+@dataclass(frozen=True, eq=False)
+class PointImage(StepRule):
+    """The curve's image in the axes is one point: three recorded points in a row with the same axis values.
+
+    The same within :attr:`Tolerances.same_configuration` (dimensionless axes).  A regular
+    curve's image moves by about a step per step (a cusp is an isolated stop), so an image
+    that stays put over two steps stays put on the whole (analytic) curve: a family of
+    configurations over one map point (e.g. a leg of zero length turning freely about its
+    pivot).  Ends :data:`END_POINT`; the caller reports one point there, not a curve.
+    """
+
+    at: PointTests = field(repr=False)
+    tol: Tolerances = field(repr=False)
+    reason: str = END_POINT
+    message: str = "the curve's image in the axes is one point"
+
+    def check(self, problem, history, point):
+        if len(history) < 2:
+            return None
+        a = [self.at.axes(p.y) for p in (*history[-2:], point)]
+        if max(np.linalg.norm(a[1] - a[0]), np.linalg.norm(a[2] - a[0])) <= self.tol.same_configuration:
+            return StepEnd(self.reason, data=_Ending((), None))
         return None
 
 

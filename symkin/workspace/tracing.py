@@ -15,8 +15,8 @@ from symkin.curves.stepper import CurvePoint, Settings, tangent
 from symkin.curves.tracer import TracedCurve, trace_curve
 from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
-from symkin.workspace.locus_events import (IMMinimum, LeavesBoundaryAt, LeavesDoubleZero, LeavesRegion, NearIM, OnBox,
-                                           PointTests, cusp_event, meeting_event)
+from symkin.workspace.locus_events import (END_POINT, IMMinimum, LeavesBoundaryAt, LeavesDoubleZero, LeavesRegion,
+                                           NearIM, OnBox, PointImage, PointTests, cusp_event, meeting_event)
 from symkin.workspace.locus_problems import OTHER_KIND, LocusProblems
 
 __all__ = ["segment_distance", "polyline_distance", "trace_locus", "trace_double_zero", "HalfCurve",
@@ -100,10 +100,16 @@ def _trace_half(pb: LocusProblems, kind: str, y0: np.ndarray, t0: np.ndarray, bo
     if kind == kind_b:
         events.insert(0, meeting_event(at, OTHER_KIND[kind_b]))
     stops = [LeavesRegion(at, kind, boundary, box, tol), OnBox(at, box), NearIM(at, tol),
-             IMMinimum(at, tol, settings.max_step), _closed(start.y, start.t, settings)]
+             IMMinimum(at, tol, settings.max_step), PointImage(at, tol), _closed(start.y, start.t, settings)]
     traced = trace_curve(problem, np.array(y0, float), t0, events=events, stops=stops, settings=settings,
                          priority=(Kind.MEETING, Kind.CUSP), tolerances=tol)
     ys, end, end_y = _half(traced)
+    if end == END_POINT:
+        # the image stopped: keep one point over the final axis point (the curve's end, classified by the caller)
+        a_end = at.axes(ys[-1])
+        while len(ys) > 1 and np.linalg.norm(at.axes(ys[-2]) - a_end) <= tol.same_configuration:
+            ys.pop()
+        end_y = ys[-1]
     meetings = [e.y for e in traced.events if str(Kind.MEETING) in e.tests]
     cusps = [e.y for e in traced.events if str(Kind.CUSP) in e.tests]
     return HalfCurve(ys, end, end_y, meetings, cusps)
@@ -116,19 +122,42 @@ def trace_locus(pb: LocusProblems, kind: str, y0: np.ndarray, box: np.ndarray, s
 
     Returns ``(ys, closed, ends, end points, meeting points, cusps)`` in ``y = q/ℓ`` (see
     :func:`_trace_half` for ``boundary``, :func:`locate_cusp` for the cusps: located on the
-    way, they neither stop nor split the curve).
+    way, they neither stop nor split the curve).  A "curve" whose image in the axes is one
+    point (:class:`~symkin.workspace.locus_events.PointImage`) returns ``([y0], False,
+    ("point",), [y0], [], [])``: the caller reports one point; a curve that runs into such a
+    family ends there (end ``"point"``, its end point the first configuration over that map point).
     """
     problem = pb.curve(kind)
     t0 = tangent(problem, y0)
     start = CurvePoint(np.array(y0, float), t0, 0.0)
     fwd = _trace_half(pb, kind, y0, t0, box, settings, tol, start, boundary)
+    if fwd.end == END_POINT and len(fwd.ys) == 1:  # one point of the map, not a curve: nothing located is kept
+        return np.array([y0], float), False, (END_POINT,), [np.array(y0, float)], [], []
     if fwd.end == Kind.CLOSED:
+        if _one_point(pb, np.array(fwd.ys), tol):
+            return np.array([y0], float), False, (END_POINT,), [np.array(y0, float)], [], []
         return np.array(fwd.ys), True, (Kind.CLOSED,), [], fwd.meetings, fwd.cusps
     bwd = _trace_half(pb, kind, y0, -t0, box, settings, tol, CurvePoint(start.y, -t0, 0.0), boundary)
     ys = np.array(bwd.ys[:0:-1] + fwd.ys)
     ends = (bwd.end, fwd.end)
+    if _one_point(pb, ys, tol, END_POINT in ends):  # a family of configurations over one map point
+        return np.array([y0], float), False, (END_POINT,), [np.array(y0, float)], [], []
     return (ys, False, ends, [h.end_y for h in (bwd, fwd) if h.end_y is not None], bwd.meetings + fwd.meetings,
             bwd.cusps + fwd.cusps)
+
+
+def _one_point(pb: LocusProblems, ys: np.ndarray, tol: Tolerances, family: bool = False) -> bool:
+    """Whether the curve points ``ys`` are a family over one map point: distinct configurations, one image.
+
+    Both within :attr:`Tolerances.same_configuration` (dimensionless): the image in the axes
+    is one point while the configurations are not one (a curve that leaves the box at once
+    on both sides has one image and one configuration: it is no family), or ``family`` (a
+    half ended on such a family: its points over the map point were trimmed to one).
+    """
+    ys = np.asarray(ys, float)
+    a = np.array([pb.axes(y) for y in ys])
+    return bool(np.all(np.linalg.norm(a - a[0], axis=1) <= tol.same_configuration)
+                and (family or np.max(np.linalg.norm(ys - ys[0], axis=1)) > tol.same_configuration))
 
 
 def _perp(v: np.ndarray) -> np.ndarray:
@@ -198,6 +227,8 @@ def trace_double_zero(pb: LocusProblems, kind: str, y0: np.ndarray, box: np.ndar
     t0 = tangent(pb.slope_curve(kind, n0), y0, t0)
     fwd = _trace_double_half(pb, kind, y0, t0, box, settings, tol, boundary)
     if fwd.end == Kind.CLOSED:
+        if _one_point(pb, np.array(fwd.ys), tol):
+            return np.array([y0], float), False, (END_POINT,), [np.array(y0, float)], [], []
         return np.array(fwd.ys), True, (Kind.CLOSED,), [], [], []
     bwd = _trace_double_half(pb, kind, y0, -t0, box, settings, tol, boundary)
     ys = np.array(bwd.ys[:0:-1] + fwd.ys)
