@@ -110,7 +110,7 @@ from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 from symkin.workspace.cusps import locate_cusp
 from symkin.workspace.im_points import im_candidates, locate_im_many
-from symkin.workspace.locate import locate_crossing, locate_double_zero, locate_fold
+from symkin.workspace.locate import locate_crossing, locate_crossings, locate_double_zero, locate_fold
 from symkin.workspace.locus_problems import KINDS, OTHER_KIND, LocusProblems, LocusSystem
 from symkin.workspace.refine_data import Curve, GridData, RefineStats, SingularPoint
 from symkin.workspace.reseed import resolve_from_seed
@@ -164,6 +164,36 @@ def _brackets(grid: GridData):
             pa, pb_ = (j, i), (j + dj, i + di)
             folds.append((pa, pb_) if asm[pa] else (pb_, pa))
     return signs, folds
+
+
+def _crossings(pb: LocusProblems, grid: GridData, signs: list, dim_axes, stats: RefineStats) -> list:
+    """The sign changes ``signs`` located in batches, one per kind (:func:`locate_crossings`).
+
+    Per bracket: ``False`` where a grid end has no configuration (skipped), None where the
+    location failed, else ``(y, s)``.  The evaluations count as locating.
+    """
+    out: list = [False] * len(signs)
+    before = pb.counter.n
+    for kind in KINDS:
+        rows, ends = [], []
+        for k, (kd, pa, pb_) in enumerate(signs):
+            qa, qb = grid.config(*pa), grid.config(*pb_)
+            if kd == kind and qa is not None and qb is not None:
+                rows.append(k)
+                ends.append((dim_axes(*pa), qa / pb.scale, dim_axes(*pb_), qb / pb.scale))
+        if rows:
+            found = locate_crossings(pb, kind, *(np.array([e[i] for e in ends]) for i in range(4)))
+            for k, f in zip(rows, found):
+                out[k] = f
+    stats.locate_evaluations += pb.counter.n - before
+    return out
+
+
+def _found(found) -> np.ndarray:
+    """The configuration of a crossing located in a batch (raises NotConvergedError where it failed)."""
+    if found is None:
+        raise NotConvergedError("crossing not located")
+    return found[0]
 
 
 def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAULT, box=None,
@@ -294,14 +324,11 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             return
         take(kind, y)
 
-    for kind, pa, pb_ in signs:
-        qa, qb = grid.config(*pa), grid.config(*pb_)
-        if qa is None or qb is None:
+    located = _crossings(pb, grid, signs, dim_axes, stats)  # every sign change located at once, per kind
+    for (kind, pa, pb_), found in zip(signs, located):
+        if found is False:
             continue
-        ya, yb = qa / pb.scale, qb / pb.scale
-        locate_and_take((kind,), pa, pb_,
-                        lambda: (kind, locate_crossing(pb, kind, dim_axes(*pa), ya, dim_axes(*pb_), yb)[0]),
-                        (NotConvergedError, ValueError))
+        locate_and_take((kind,), pa, pb_, lambda found=found, kind=kind: (kind, _found(found)), NotConvergedError)
     for pa, pb_ in folds:
         qa = grid.config(*pa)
         if qa is None:
