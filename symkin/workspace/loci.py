@@ -33,30 +33,35 @@ Contract with the map engine
 Algorithm
 ---------
 1. **Crossings** — every grid edge whose two assembled ends have opposite signs of a DKP
-   test function brackets a crossing.  The root is searched along the edge (Brent's
-   method on ``T`` of the square problem solved at interpolated axis values, warm-started
-   from the nearer end), then polished by Gauss–Newton on the extended system
-   ``(Φ/ℓ, holds, a(q)/axis_scale − (a₀ + s·d), T) = 0`` in ``(q/ℓ, s)``.
+   test function brackets a crossing.  The roots of all brackets of a kind are searched
+   together along their edges (:func:`locate_crossings`: regula falsi on ``T`` of the square
+   problem solved at interpolated axis values, warm-started from the nearer end, each step
+   one batched solve), then polished together by Gauss–Newton on the extended system
+   ``(Φ/ℓ, holds, a(q)/axis_scale − (a₀ + s·d), T) = 0`` in ``(q/ℓ, s)`` (one batch).
 2. **Folds** — an edge from an assembled to an unassembled end brackets the mode's
    workspace boundary (a fold of the square problem).  Bisection on "the square problem
    still solves from the assembled neighbour" narrows it; the same extended system with
    the DKP test function that vanishes there (``DKP-output`` in a workspace map,
    ``DKP-input`` in a joint-space map: the smaller of the two) polishes it.
-3. **Tracing** — from a located point, pseudo-arclength continuation
-   (:func:`symkin.paths.continuation.continue_curve`) of ``(Φ/ℓ, holds, T) = 0`` in
-   ``y = q/ℓ`` with both axis coordinates free, in both directions, until the curve
-   *closes* (passes its start again in the same direction), *leaves the box* (the last
-   point is solved onto the box edge), *meets the workspace boundary* of the mode (the
-   other DKP test function changes sign: located by
-   :func:`symkin.paths.events.locate_sign_change`), meets another locus at a branch point
-   (``det[H'; tᵀ]`` changes sign), nears an IM configuration (the relative IM indicator
-   ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points
-   (:func:`symkin.paths.events.locate_minimum`), below :attr:`Tolerances.near_branch`:
-   ``T`` is not defined at IM; the IM configuration is then refined as in step 4) or
-   cannot be continued.  On the way, a **cusp** of the curve's image in the axes (the axis
-   velocity ``∂A/∂y · t`` reverses between two points) is located along the curve and kept
-   when the relative axis speed there is at most :attr:`Tolerances.event_threshold`
-   (:func:`locate_cusp`); it neither stops nor splits the curve.  A crossing that lies on a curve already traced (configuration
+3. **Tracing** — from a located point, the one tracer (:func:`symkin.curves.tracer.trace_curve`,
+   pseudo-arclength continuation) follows ``(Φ/ℓ, holds, T) = 0`` in ``y = q/ℓ`` with both
+   axis coordinates free, in both directions; the map's events and stop rules are objects
+   (:mod:`symkin.workspace.locus_events`).  A curve ends where it *leaves the mode* (the
+   other DKP test function changes sign: located by sign change), meets another locus at a
+   branch point (``det[H'; tᵀ]`` changes sign), *leaves the box* (the curves' ``LeftBox``;
+   the last point is solved onto the box edge), nears an IM configuration (the relative IM
+   indicator ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points,
+   below :attr:`Tolerances.near_branch`: ``T`` is not defined at IM; the IM configuration is
+   then refined as in step 4), runs into a family of configurations over one map point (its
+   image stays put over two steps: end ``"point"``) or cannot be continued; it is *closed*
+   when it crosses its start's normal plane near its start (the curves' ``Closed`` rule).
+   On the way, a **cusp** of the curve's image in the axes (the axis velocity ``∂A/∂y · t``
+   reverses between two points) is located along the curve and kept when the relative axis
+   speed there is at most :attr:`Tolerances.event_threshold` (:func:`locate_cusp`); it
+   neither stops nor splits the curve.  A "curve" whose whole image is one map point (a
+   leg of zero length turning about its pivot) is no curve: it is reported as one point
+   (classified by the core), seeds nothing, and the points recorded at that map point are
+   one (:func:`symkin.workspace.singular_points.one_per_family`).  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours
    (:func:`symkin.workspace.im_points.im_candidates`), the cells around it are subdivided
@@ -89,7 +94,8 @@ Where it lives: the problems on a locus (:mod:`~symkin.workspace.locus_problems`
 results (:mod:`~symkin.workspace.refine_data`), locating crossings, folds and double zeros
 (:mod:`~symkin.workspace.locate`), IM points (:mod:`~symkin.workspace.im_points`), re-solving a
 grid configuration from the seed (:mod:`~symkin.workspace.reseed`), cusps
-(:mod:`~symkin.workspace.cusps`), tracing (:mod:`~symkin.workspace.tracing`), classifying and
+(:mod:`~symkin.workspace.cusps`), the events and stop rules of a traced locus
+(:mod:`~symkin.workspace.locus_events`), tracing (:mod:`~symkin.workspace.tracing`), classifying and
 recording points (:mod:`~symkin.workspace.singular_points`); this module is the driver.
 
 Accuracy: every located and traced point satisfies ``‖(Φ/ℓ, holds, T)‖ ≤ 1e-12``

@@ -1,5 +1,9 @@
 """Tracing a map's singular curves from a located point, both ways, to their ends (closed, box, boundary,
-branch, IM); curves of double zeros through the slope of the test function.
+branch, IM, point); curves of double zeros through the slope of the test function.
+
+The mechanism layer over the one tracer, :func:`symkin.curves.tracer.trace_curve`: the
+events and stop rules are the objects of :mod:`symkin.workspace.locus_events`, the closed-curve
+rule is the curves' :class:`~symkin.curves.events.Closed`.
 
 See :mod:`symkin.workspace.loci` (step 3).
 """
