@@ -110,7 +110,7 @@ from typing import Any
 import numpy as np
 
 from symkin.errors import NotConvergedError
-from symkin.paths.continuation import Settings
+from symkin.curves.stepper import Settings
 from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
