@@ -295,13 +295,15 @@ class LeavesDoubleZero(StepRule):
 
 @dataclass(frozen=True, eq=False)
 class PointImage(StepRule):
-    """The curve's image in the axes is one point: three recorded points in a row with the same axis values.
+    """The curve's image in the axes is one point: over two steps in a row the axes stay put while ``y`` moves.
 
-    The same within :attr:`Tolerances.same_configuration` (dimensionless axes).  A regular
-    curve's image moves by about a step per step (a cusp is an isolated stop), so an image
-    that stays put over two steps stays put on the whole (analytic) curve: a family of
-    configurations over one map point (e.g. a leg of zero length turning freely about its
-    pivot).  Ends :data:`END_POINT`; the caller reports one point there, not a curve.
+    Each step's axis displacement is at most :attr:`Tolerances.same_configuration` times its
+    configuration displacement (both dimensionless; independent of the step size).  A regular
+    curve's image moves by a fraction of order one of the step (near a cusp by about the
+    step times the distance to it; a cusp is an isolated stop), so an image that stays put
+    over two steps stays put on the whole (analytic) curve: a family of configurations over
+    one map point (e.g. a leg of zero length turning freely about its pivot).  Ends
+    :data:`END_POINT`; the caller reports one point there, not a curve.
     """
 
     at: PointTests = field(repr=False)
@@ -312,8 +314,10 @@ class PointImage(StepRule):
     def check(self, problem, history, point):
         if len(history) < 2:
             return None
-        a = [self.at.axes(p.y) for p in (*history[-2:], point)]
-        if max(np.linalg.norm(a[1] - a[0]), np.linalg.norm(a[2] - a[0])) <= self.tol.same_configuration:
+        pts = (*history[-2:], point)
+        a = [self.at.axes(p.y) for p in pts]
+        if all(np.linalg.norm(a[k + 1] - a[k]) <= self.tol.same_configuration * np.linalg.norm(pts[k + 1].y - pts[k].y)
+               for k in (0, 1)):
             return StepEnd(self.reason, data=_Ending((), None))
         return None
 
