@@ -59,7 +59,7 @@ def locate_crossing(pb: LocusProblems, kind: str, a_a: np.ndarray, y_a: np.ndarr
         return pb.tests(y)[kind]
 
     # a coarse bracket is enough: the extended system polishes it quadratically
-    s = brentq(lambda s: ta if s == 0 else tb if s == 1 else t_of(s), 0.0, 1.0, xtol=1e-6)
+    s = brentq(lambda s: ta if s == 0 else tb if s == 1 else t_of(s), 0.0, 1.0, xtol=CROSSING_XTOL)
     y0 = cache.get(s, y_a if s <= 0.5 else y_b)
     return _polish(pb, kind, a_a, d, y0, s)
 
