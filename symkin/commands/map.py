@@ -4,7 +4,6 @@ from __future__ import annotations
 import importlib.util
 import json
 import sys
-from pathlib import Path
 
 from symkin.commands import Output, check_holds, in_file, write_output
 from symkin.commands.analyze import tolerance

@@ -10,7 +10,7 @@ import sys
 from symkin.commands import (LENGTH_UNITS, Output, finite_number, format_coordinate, format_outputs, in_file,
                              positive_number, write_output)
 from symkin.commands.analyze import tolerance
-from symkin.errors import ModelError, SymkinError
+from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
 NAME = "path"
