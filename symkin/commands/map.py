@@ -4,7 +4,6 @@ from __future__ import annotations
 import importlib.util
 import json
 import sys
-from pathlib import Path
 
 from symkin.commands import Output, check_holds, in_file
 from symkin.commands.outputs import check_figure_file, check_output_file, save_output

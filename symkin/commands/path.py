@@ -12,7 +12,7 @@ from symkin.commands import (LENGTH_UNITS, Output, finite_number, format_coordin
                              positive_number)
 from symkin.commands.outputs import check_figure_file, check_output_file, save_output
 from symkin.commands.analyze import tolerance
-from symkin.errors import ModelError, SymkinError
+from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
 NAME = "path"

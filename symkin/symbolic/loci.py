@@ -68,7 +68,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.errors import SymkinError
-from symkin.kinds import Kind
+from symkin.kinds import LOCUS_KINDS, Kind
 from symkin.kinds import latex as latex_name
 from symkin.model.labels import CoordinateLabel, parse_hold, parse_label
 from symkin.model.mechanism import AXES, Mechanism
@@ -83,7 +83,7 @@ _LOCUS_LABELS = "a locus can be written in"
 __all__ = ["LociError", "LocusFactor", "Locus", "Loci", "implicit_loci", "closure_polynomials", "KINDS"]
 
 #: the kinds of loci, in the order derived
-KINDS = (Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.IM)
+KINDS = LOCUS_KINDS
 #: most IM minors whose common zeros are eliminated
 MAX_IM_MINORS = 200
 #: angle units of hold values, factor to radians
