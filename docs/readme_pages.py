@@ -14,7 +14,7 @@ from pathlib import Path
 
 #: page stem → (page title or None to take the single section's own title, README section titles in order)
 PAGES: dict[str, tuple[str | None, tuple[str, ...]]] = {
-    "getting_started": ("Getting started", ("Set-up", "Ten lines of Python")),
+    "getting_started": ("Getting started", ("Set-up", "Documentation", "Ten lines of Python")),
     "command_line": (None, ("Command line",)),
     "model_files": (None, ("Model files",)),
     "computes": ("What symkin computes, and its tolerances",
@@ -81,6 +81,8 @@ def _fix_links(text: str, anchors: dict[str, str], root: Path, depth: int) -> st
         if target.startswith("#"):
             page = anchors.get(target[1:])
             return f"{m.group(1)}{page}.md{target}{m.group(3)}" if page else m.group(0)
+        if target.startswith("docs/_build/html/") and target.endswith(".html"):   # a page of this site
+            return f"{m.group(1)}{up}{target[len('docs/_build/html/'):-len('.html')]}.md{m.group(3)}"
         if target.startswith("docs/"):
             return f"{m.group(1)}{up}{target[len('docs/'):]}{m.group(3)}"
         if (root / target.split("#")[0]).exists():
