@@ -29,8 +29,8 @@ G = symkin.geometric_matrix(mech, boundary=True)
 print(G.shape)
 
 # %%
-# The mechanism at the dead centre.
+# The mechanism at the dead centre, with its motion-space vector (eq. 9): the crank's end moves,
+# the rocker's end C does not (the rocker is locked: LIM).
 from symkin.plots import draw_mechanism
 
-ax = draw_mechanism(dead)
-ax.set_title("four-bar at a dead centre")
+ax = draw_mechanism(dead, motion=symkin.motion_space(dead), title="four-bar at a dead centre")

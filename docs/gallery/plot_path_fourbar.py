@@ -18,6 +18,6 @@ for i, event in enumerate(path.events, 1):
     print(i, event.kind, path.values(event))
 
 # %%
-fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 10), layout="constrained")
 plot_indicators(path, ax=ax1)
 plot_traces(path, ax=ax2)
