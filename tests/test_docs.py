@@ -1,6 +1,6 @@
 """The documentation site (docs/, README "Documentation") builds with warnings as errors.
 
-The build itself is slow (about 25 s: it imports every documented module and executes the
+The build itself is slow (15 to 25 s here: it imports every documented module and executes the
 gallery) and needs the docs extra (``pip install -e ".[docs]"``); it skips, saying so, without it.
 The README split into guide pages is checked without Sphinx.
 """
