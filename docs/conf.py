@@ -19,9 +19,11 @@ sys.path.insert(0, str(DOCS))
 os.environ.setdefault("MPLBACKEND", "agg")
 
 import symkin  # noqa: E402
-from readme_pages import write_pages  # noqa: E402
+from readme_pages import write_model_examples, write_pages  # noqa: E402
 
-GUIDE_PAGES = write_pages(ROOT / "README.md", DOCS / "guide")
+(DOCS / "guide").mkdir(exist_ok=True)
+GUIDE_PAGES = write_pages(ROOT / "README.md", DOCS / "guide",
+                          extra={write_model_examples(ROOT, DOCS / "guide"): "model_files"})
 
 project = "symkin"
 author = "symkin developers"

@@ -92,8 +92,12 @@ def _fix_links(text: str, anchors: dict[str, str], root: Path, depth: int) -> st
     return _LINK.sub(fix, text)
 
 
-def write_pages(readme: Path, out: Path) -> list[str]:
-    """Write the guide pages of ``readme`` into ``out`` (and ``intro.md``); return the page stems in order."""
+def write_pages(readme: Path, out: Path, extra: dict[str, str] | None = None) -> list[str]:
+    """Write the guide pages of ``readme`` into ``out`` (and ``intro.md``, ``toc.md``); return the page stems in order.
+
+    ``extra`` maps a page stem of ``out`` written by another function to the stem it follows in the table
+    of contents.
+    """
     intro, sections = split_sections(readme.read_text(encoding="utf-8"))
     by_title = {title: lines for title, lines in sections}
     pages = {stem: (title, [t for t in titles if t in by_title]) for stem, (title, titles) in PAGES.items()}
@@ -124,6 +128,8 @@ def write_pages(readme: Path, out: Path) -> list[str]:
         _write_if_changed(out / f"{stem}.md", text)
         stems.append(stem)
     _write_if_changed(out / "intro.md", _fix_links(intro, {}, root, 1))
+    for stem, after in (extra or {}).items():
+        stems.insert(stems.index(after) + 1 if after in stems else len(stems), stem)
     toc = ["```{toctree}", ":maxdepth: 2", ":caption: Guide", ""] + [f"guide/{s}" for s in stems] + ["```", ""]
     _write_if_changed(out / "toc.md", "\n".join(toc))
     return stems
@@ -133,3 +139,40 @@ def _write_if_changed(path: Path, text: str) -> None:
     """Write only on change, so that Sphinx's incremental builds do not re-read unchanged pages."""
     if not path.exists() or path.read_text(encoding="utf-8") != text:
         path.write_text(text, encoding="utf-8")
+
+
+def write_model_examples(root: Path, out: Path) -> str:
+    """Write the page of the shipped model files and the catalogue into ``out``; return its stem.
+
+    Every ``.toml`` / ``.json`` file of ``examples/`` and ``papers_examples/`` is shown whole (a
+    ``literalinclude``, so the page follows the files), with the ``name`` it declares; the
+    catalogue's mechanisms are listed by the name ``catalogue:NAME`` takes.
+    """
+    import tomllib
+
+    from symkin import catalogue
+
+    stem = "model_examples"
+    lines = ["# Model files: the shipped examples", "",
+             "The model files the guide's examples name, shown whole: `examples/` (the README's examples) "
+             "and `papers_examples/` (each example of the paper, with the script that checks what the "
+             "paper states). Every command and `symkin.read_model` also take `catalogue:NAME` for a "
+             "mechanism of the catalogue (listed at the end; `symkin.catalogue.get(NAME)` in Python).", ""]
+    for folder in ("examples", "papers_examples"):
+        files = sorted(p for p in (root / folder).glob("*") if p.suffix in (".toml", ".json"))
+        if not files:
+            continue
+        lines += [f"## `{folder}/`", ""]
+        for path in files:
+            try:
+                name = (tomllib.loads(path.read_text(encoding="utf-8")) if path.suffix == ".toml"
+                        else __import__("json").loads(path.read_text(encoding="utf-8"))).get("name", "")
+            except ValueError:
+                name = ""
+            lines += [f"### `{folder}/{path.name}`", "", f"{name}", "",
+                      "```{literalinclude} " + f"../../{folder}/{path.name}",
+                      f":language: {path.suffix[1:]}", "```", ""]
+    lines += ["## The catalogue", "", "| `catalogue:NAME` | mechanism |", "|---|---|"]
+    lines += [f"| `catalogue:{n}` | {catalogue.get(n).name} |" for n in catalogue.names()]
+    _write_if_changed(out / f"{stem}.md", "\n".join(lines) + "\n")
+    return stem
