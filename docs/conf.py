@@ -78,7 +78,8 @@ sphinx_gallery_conf = {
 #: live in modules being edited elsewhere, so the site tolerates them instead of editing them
 #: (each one's problem in a comment; fix the docstring, then remove it from this set)
 VERBATIM_DOCSTRINGS = {
-    "symkin.workspace.system",                    # a title underline too short; an aligned table read as a definition list
+    "symkin.workspace.system",                    # a title underline too short; an aligned table read as
+                                                  # a definition list
     "symkin.workspace.loci.refine",               # |A_i B_i|, |P − A_i| read as substitutions: write ``|P − A_i|``
     "symkin.workspace.quadtree.subdivide_many",   # a paragraph after "Parameters" without a section of its own
     "symkin.curves.tracer.trace_curve",           # the same: a paragraph after "Parameters"
