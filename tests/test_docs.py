@@ -52,8 +52,8 @@ def test_site_builds_with_warnings_as_errors(tmp_path):
                          cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-5000:]
     for page in ("index.html", "guide/getting_started.html", "guide/model_files.html", "guide/model_examples.html",
-                 "api/index.html", "api/symkin.html", "api/generated/symkin.workspace.maps.html", "auto_examples/index.html",
-                 "auto_examples/plot_path_fourbar.html"):
+                 "api/index.html", "api/symkin.html", "api/generated/symkin.workspace.maps.html",
+                 "auto_examples/index.html", "auto_examples/plot_path_fourbar.html"):
         assert (out / page).is_file(), page
     # the gallery ran: its figures are in the site
     assert list((out / "_images").glob("sphx_glr_plot_path_fourbar_*.png"))
