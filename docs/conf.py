@@ -8,6 +8,7 @@ The guide pages are the README's sections (``readme_pages.py`` splits them at ev
 API reference is generated from the docstrings (autodoc + autosummary, NumPy-style sections by
 napoleon), and the gallery's examples (``docs/gallery/``) are executed by sphinx-gallery.
 """
+import importlib
 import os
 import sys
 from pathlib import Path
@@ -52,7 +53,49 @@ myst_heading_anchors = 3
 # API reference
 autosummary_generate = True
 autosummary_imported_members = False
-autosummary_ignore_module_all = False   # a package's table lists its __all__
+#: the packages documented module by module: each object is described once, on the page of the module
+#: that defines it (``:ignore-module-all:``), and a package's page lists what its ``__all__`` exports,
+#: linked to there
+PACKAGES = ("symkin.plots", "symkin.paths", "symkin.solutions", "symkin.workspace", "symkin.curves")
+
+
+def _defined_at(package: str, name: str) -> str:
+    obj = getattr(importlib.import_module(package), name)
+    return f"{obj.__module__}.{obj.__qualname__}" if hasattr(obj, "__qualname__") else f"{package}.{name}"
+
+
+def _shadowed_modules() -> list[str]:
+    """Submodules hidden by a name of their package (``symkin.solutions.solve_all`` is a function there).
+
+    autosummary would document the function under the module's name; these modules get a page of their
+    own, written here (``api/shadowed/``, generated), linked from their package's page.
+    """
+    import pkgutil
+    import types
+
+    found = []
+    for package in PACKAGES:
+        module = importlib.import_module(package)
+        for info in pkgutil.iter_modules(module.__path__):
+            if info.name.startswith("_"):
+                continue
+            importlib.import_module(f"{package}.{info.name}")      # sets the package's attribute, unless shadowed
+            if not isinstance(getattr(module, info.name, None), types.ModuleType):
+                found.append(f"{package}.{info.name}")
+    folder = DOCS / "api" / "shadowed"
+    folder.mkdir(exist_ok=True)
+    for name in found:
+        text = f"{name}\n{'=' * len(name)}\n\n.. automodule:: {name}\n   :ignore-module-all:\n"
+        path = folder / f"{name}.rst"
+        if not path.exists() or path.read_text(encoding="utf-8") != text:
+            path.write_text(text, encoding="utf-8")
+    return found
+
+
+SHADOWED = _shadowed_modules()
+autosummary_context = {"shadowed": SHADOWED, "exported": {
+    package.split(".")[1]: [_defined_at(package, name) for name in getattr(importlib.import_module(package), "__all__", ())]
+    for package in PACKAGES}}
 autodoc_default_options = {"members": True, "show-inheritance": True, "member-order": "bysource"}
 autodoc_typehints = "signature"
 autodoc_typehints_format = "short"
@@ -83,6 +126,7 @@ VERBATIM_DOCSTRINGS = {
     "symkin.workspace.loci.refine",               # |A_i B_i|, |P − A_i| read as substitutions: write ``|P − A_i|``
     "symkin.workspace.quadtree.subdivide_many",   # a paragraph after "Parameters" without a section of its own
     "symkin.curves.tracer.trace_curve",           # the same: a paragraph after "Parameters"
+    "symkin.curves.locate.SIGN_CHANGE_XTOL",      # |y| read as a substitution: write ``|y|``
 }
 
 
