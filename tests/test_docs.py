@@ -1,8 +1,9 @@
 """The documentation site (docs/, README "Documentation") builds with warnings as errors.
 
-The build itself is slow (15 to 25 s here: it imports every documented module and executes the
-gallery) and needs the docs extra (``pip install -e ".[docs]"``); it skips, saying so, without it.
-The README split into guide pages is checked without Sphinx.
+The build itself is slow (about 15 s on an idle 2-core machine, up to a minute on a loaded one:
+it imports every documented module and executes the gallery) and needs the docs extra
+(``pip install -e ".[docs]"``); it skips, saying so, without it.  The README split into guide
+pages is checked without Sphinx.
 """
 from __future__ import annotations
 
