@@ -69,7 +69,8 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
 
     Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
     path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
-    (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
+    (``slide:<slider>``), ``"velocity"`` (``velocity:<node>.<axis>`` for every free node) and
+    ``"joint"`` (the labels of the joint rates of a model written by its joints, ``joint:R1``).
 
     Examples
     --------
@@ -84,7 +85,8 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     return {"inputs": inputs, "outputs": outputs,
             "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
             "slide": tuple(s.id for s in mech.sliders),
-            "velocity": tuple(mech.free_nodes)}
+            "velocity": tuple(mech.free_nodes),
+            "joint": tuple(lab for lab, _ in mech.joint_rates if lab not in taken)}
 
 
 def parse_label(mech: Mechanism, label: str, what: str = "input",
@@ -115,6 +117,9 @@ def parse_label(mech: Mechanism, label: str, what: str = "input",
             pass
     if kind == "velocity" and target in mech.free_nodes and comp in AXES[: mech.dim]:
         return coordinate_labels(mech, [Parameter("velocity", (target,), component=comp)])[0]
+    for name, p in mech.joint_rates:
+        if name == label:
+            return coordinate_labels(mech, [p])[0]
     raise SymkinError(f"unknown {what} {label!r}; {accepted_text(mech, lead)}")
 
 
@@ -130,6 +135,8 @@ def accepted_text(mech: Mechanism, lead: str = "a path can be driven by") -> str
         parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
     if a["velocity"]:
         parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
+    if a["joint"]:
+        parts.append(f"the joints' rates ({', '.join(a['joint'])})")
     return f"{lead} " + "; ".join(parts)
 
 
