@@ -69,8 +69,9 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
 
     Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
     path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
-    (``slide:<slider>``), ``"velocity"`` (``velocity:<node>.<axis>`` for every free node) and
-    ``"joint"`` (the labels of the joint rates of a model written by its joints, ``joint:R1``).
+    (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
+    The joint rates of a model written by its joints (``joint:R1``) are
+    ``mech.joint_rates``.
 
     Examples
     --------
@@ -85,8 +86,7 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     return {"inputs": inputs, "outputs": outputs,
             "rotation": tuple(mech.moving_links) if mech.dim == 2 else (),
             "slide": tuple(s.id for s in mech.sliders),
-            "velocity": tuple(mech.free_nodes),
-            "joint": tuple(lab for lab, _ in mech.joint_rates if lab not in taken)}
+            "velocity": tuple(mech.free_nodes)}
 
 
 def parse_label(mech: Mechanism, label: str, what: str = "input",
@@ -135,8 +135,9 @@ def accepted_text(mech: Mechanism, lead: str = "a path can be driven by") -> str
         parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
     if a["velocity"]:
         parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
-    if a["joint"]:
-        parts.append(f"the joints' rates ({', '.join(a['joint'])})")
+    joints = [name for name, _ in mech.joint_rates if name not in a["inputs"]]
+    if joints:
+        parts.append(f"the joints' rates ({', '.join(joints)})")
     return f"{lead} " + "; ".join(parts)
 
 
