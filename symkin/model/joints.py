@@ -99,8 +99,18 @@ class CompiledJoints:
     problems: tuple[Problem, ...]
 
 
+#: largest magnitude of a coordinate or an axis component (as :data:`symkin.model.validation.COORDINATE_LIMIT`)
+_LIMIT = 1e100
+
+
 def _num(v: Any) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(float(v))
+    """A finite number within ±1e100 (an integer too large for a float is not)."""
+    if not isinstance(v, (int, float)) or isinstance(v, bool):
+        return False
+    try:
+        return math.isfinite(float(v)) and abs(float(v)) <= _LIMIT
+    except OverflowError:
+        return False
 
 
 def _unit(v):
@@ -256,6 +266,8 @@ class _Builder:
             ns = self.given.get(link, ())
             if len(ns) == 2 and ns[0] in self.nodes and ns[1] in self.nodes:
                 a, c = self.nodes[ns[0]], self.nodes[ns[1]]
+                if math.dist(a, c) == 0.0:  # a zero-length bar: the node checks report it
+                    continue
                 u = _unit(tuple(y - x for x, y in zip(a, c)))
                 if not self.along_line(joint.at, a, u):
                     self.problems.append(Problem(f"joints ({joint.id})", (
@@ -401,7 +413,8 @@ def compile_joints(data: Mapping, dim: int, geometry_tol: float) -> CompiledJoin
     links = data.get("links")
     if not isinstance(items, (list, tuple)):
         return CompiledJoints(dict(data), (), (), (Problem("joints", "must be a list of tables ([[joints]])"),))
-    if not isinstance(links, Mapping) or not all(isinstance(v, (list, tuple)) for v in links.values()):
+    if not isinstance(links, Mapping) or not all(
+            isinstance(v, (list, tuple)) and all(isinstance(n, str) for n in v) for v in links.values()):
         return CompiledJoints(dict(data), (), (), (Problem("links", "must be a table of link name = "
                                                                     "[node names] (or [] for a link its "
                                                                     "joints define)"),))
@@ -412,7 +425,8 @@ def compile_joints(data: Mapping, dim: int, geometry_tol: float) -> CompiledJoin
     if not isinstance(nodes, Mapping) or not all(
             isinstance(p, (list, tuple)) and len(p) == dim and all(_num(v) for v in p) for p in nodes.values()):
         return CompiledJoints(dict(data), (), (), (Problem("nodes", f"with joints, nodes must be a table of "
-                                                                    f"name = [{dim} numbers]"),))
+                                                                    f"name = [{dim} finite numbers within "
+                                                                    f"±{_LIMIT:g}]"),))
     fixed = data.get("fixed", [])
     if not isinstance(fixed, (list, tuple)) or not all(isinstance(n, str) and n in nodes for n in fixed):
         return CompiledJoints(dict(data), (), (), (Problem("fixed", "must be a list of node names"),))
