@@ -379,7 +379,9 @@ class Mechanism:
         return replace(self, nodes=tuple((n, place(x)) for n, x in self.nodes), sliders=sliders,
                        inputs=tuple(param(p) for p in self.inputs),
                        outputs=tuple(param(p) for p in self.outputs),
-                       joint_rates=tuple((lab, param(p)) for lab, p in self.joint_rates))
+                       joint_rates=tuple((lab, param(p)) for lab, p in self.joint_rates),
+                       joints=tuple(replace(j, at=place(j.at), axis=j.axis and turn(j.axis),
+                                            axis2=j.axis2 and turn(j.axis2)) for j in self.joints))
 
     # ------------------------------------------------------------------ queries
     @cached_property

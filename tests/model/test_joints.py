@@ -181,3 +181,22 @@ def test_joint_form_is_scale_invariant():
     assert mm.node_names == m.node_names
     for (n, x), (_, y) in zip(m.nodes, mm.nodes):
         assert [1000.0 * c for c in x] == pytest.approx(y, rel=1e-12, abs=1e-9), n
+
+
+def test_moved_moves_the_joints_and_their_rate_axes():
+    m = symkin.Mechanism.from_dict(jf.rssr(catalogue.get("rssr").coordinates()))
+    turn = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    moved = m.moved(rotation=turn, translation=[1.0, 2.0, 3.0], scale=10.0)
+    r2 = next(j for j in moved.joints if j.id == "R2")
+    assert r2.at == pytest.approx((1.0, 32.0, 13.0)) and r2.axis == pytest.approx((0.0, 1.0, 0.0))
+    assert dict(moved.joint_rates)["joint:R2"].axis == pytest.approx((0.0, 1.0, 0.0))
+
+
+def test_cli_path_accepts_a_joint_label():
+    out, err = io.StringIO(), io.StringIO()
+    example = jf.ROOT / "papers_examples" / "fourbar_appendix_joints.toml"
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["path", str(example), "--input", "joint:A", "--to", "360", "--no-progress", "--json"])
+    assert code == 0, err.getvalue()
+    data = json.loads(out.getvalue())
+    assert data["input"] == "joint:A" and data["stop_reason"] == "reached" and data["events"]
