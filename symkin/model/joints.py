@@ -160,6 +160,10 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, prob
     if jtype not in JOINT_TYPES[3] + ("H",):
         bad(f"type must be one of {', '.join(allowed)} (dim = {dim}), got {jtype!r}", where)
         return None
+    if jtype == "H":
+        bad("the helical pair H is not available yet: its rotation tied to its slide is a constraint "
+            "row that shared nodes and sliders cannot express", where)
+        return None
     if jtype not in allowed:
         what = "planar" if dim == 2 else "spatial"
         bad(f"type {jtype!r} is not allowed in a {what} model (dim = {dim}): "
