@@ -23,6 +23,8 @@ def _summary(a):
 def _same(node: symkin.Mechanism, joint: symkin.Mechanism, extra_lim: str | None = None):
     """Equal summaries; ``extra_lim``: a link of the joint form that the node form has not (LIM)."""
     an, aj = symkin.analyze(node), symkin.analyze(joint)
+    if extra_lim is None:
+        assert aj.redundant_constraints == an.redundant_constraints
     (a, ra), (b, rb) = _summary(an), _summary(aj)
     if extra_lim is not None:
         assert aj.locked_links == (extra_lim,) and "LIM" in b[2] and "LIM" not in a[2]
@@ -45,6 +47,9 @@ def _pairs():
     return [(m.name, m, jf.fourbar(m.coordinates())) for m in fb] + [
         (sc.name, sc, jf.slider_crank(sc.coordinates(), (0.0, 0.25), (1.0, 0.0))),
         ("rssr", catalogue.get("rssr"), jf.rssr(catalogue.get("rssr").coordinates())),
+        ("five-bar", catalogue.get("five_bar"), jf.five_bar(catalogue.get("five_bar").coordinates())),
+        ("3-RRR", catalogue.get("rrr_3"), jf.rrr_3(catalogue.get("rrr_3").coordinates())),
+        ("Bennett", catalogue.get("bennett"), jf.bennett(catalogue.get("bennett").coordinates())),
         ("3-RPR", _rpr_node(), jf.rpr_3(_rpr_node().coordinates())),
         ("6-UPS", gough, jf.ups_6(gough.coordinates())),
     ]

@@ -107,3 +107,43 @@ def ups_6(nodes: dict) -> dict:
             "inputs": [{"joint": f"P{k}"} for k in range(1, 7)], "outputs": [{"twist": "platform"}],
             "platform": "platform", "platform_dof": 6, "nodes": {"O": nodes["O"]}, "links": links,
             "joints": joints}
+
+
+def _r(jid, a, b, at, axis=None):
+    out = {"id": jid, "type": "R", "links": [a, b], "at": at}
+    if axis is not None:
+        out["axis"] = axis
+    return out
+
+
+def five_bar(nodes: dict) -> dict:
+    """Five-bar (2RR): R to ground at A1, A2, R at B1, B2 and the distal links' R at P (the output)."""
+    return {"name": "five-bar by its joints", "dim": 2,
+            "inputs": [{"joint": "A1"}, {"joint": "A2"}], "outputs": [{"velocity": "P"}],
+            "links": {"crank1": [], "crank2": [], "distal1": [], "distal2": []},
+            "joints": [_r("A1", "ground", "crank1", nodes["A1"]), _r("A2", "ground", "crank2", nodes["A2"]),
+                       _r("B1", "crank1", "distal1", nodes["B1"]), _r("B2", "crank2", "distal2", nodes["B2"]),
+                       _r("P", "distal1", "distal2", nodes["P"])]}
+
+
+def rrr_3(nodes: dict) -> dict:
+    """3-RRR: per leg R to ground at A_k (the input), R at B_k, R on the platform at C_k."""
+    joints = [_r(f"{n}{k}", a, b, nodes[f"{n}{k}"]) for k in (1, 2, 3)
+              for n, a, b in (("A", "ground", f"crank{k}"), ("B", f"crank{k}", f"distal{k}"),
+                              ("C", f"distal{k}", "platform"))]
+    joints.sort(key=lambda j: j["id"][0] != "C")      # the platform's first node is C1, as in the node form
+    links = {name: [] for k in (1, 2, 3) for name in (f"crank{k}", f"distal{k}")}
+    links["platform"] = []
+    return {"name": "3-RRR by its joints", "dim": 2, "inputs": [{"joint": f"A{k}"} for k in (1, 2, 3)],
+            "outputs": [{"twist": "platform"}], "platform": "platform", "platform_dof": 3,
+            "links": links, "joints": joints}
+
+
+def bennett(nodes: dict) -> dict:
+    """Bennett 4R loop: four spatial R on the node form's axes (X → X2); ground at A and D."""
+    ax = {n: _sub(nodes[f"{n}2"], nodes[n]) for n in "ABCD"}
+    return {"name": "Bennett by its joints", "dim": 3, "mobility": 1,
+            "inputs": [{"joint": "A"}], "outputs": [{"joint": "D"}],
+            "links": {"link1": [], "link2": [], "link3": []},
+            "joints": [_r("A", "ground", "link1", nodes["A"], ax["A"]), _r("B", "link1", "link2", nodes["B"], ax["B"]),
+                       _r("C", "link2", "link3", nodes["C"], ax["C"]), _r("D", "ground", "link3", nodes["D"], ax["D"])]}
