@@ -114,3 +114,15 @@ def test_gough_joint_form_mm_and_m():
     gough = symkin.read_model(jf.MODELS / "gough_stewart.toml")
     mm = {n: [1000.0 * c for c in x] for n, x in gough.coordinates().items()}
     _same(gough.moved(scale=1000.0), symkin.Mechanism.from_dict(jf.ups_6(mm)))
+
+
+@pytest.mark.parametrize("name", ["fig11_3rsr_a", "fig12_3rsr_b", "fig13_3rsr_c"])
+def test_paper_3rsr_positions_by_their_joints(name):
+    node = symkin.read_model(jf.ROOT / "papers_examples" / f"{name}.toml")
+    joint = symkin.Mechanism.from_dict(jf.rsr_3(node.coordinates()))
+    an, aj = symkin.analyze(node), symkin.analyze(joint)
+    assert (an.dof, an.types, an.input_rank, an.output_rank, an.platform_dof, an.locked_links) == \
+        (aj.dof, aj.types, aj.input_rank, aj.output_rank, aj.platform_dof, aj.locked_links)
+    assert an.types                                   # each position is singular (the paper's point)
+    for x, y in zip(an.input_relations + an.output_relations, aj.input_relations + aj.output_relations):
+        assert np.allclose([c for _, c in x.coefficients], [c for _, c in y.coefficients], rtol=1e-7, atol=1e-9)

@@ -147,3 +147,18 @@ def bennett(nodes: dict) -> dict:
             "links": {"link1": [], "link2": [], "link3": []},
             "joints": [_r("A", "ground", "link1", nodes["A"], ax["A"]), _r("B", "link1", "link2", nodes["B"], ax["B"]),
                        _r("C", "link2", "link3", nodes["C"], ax["C"]), _r("D", "ground", "link3", nodes["D"], ax["D"])]}
+
+
+def rsr_3(nodes: dict) -> dict:
+    """3-RSR of the paper's Fig. 11-13: per leg R to ground (G_k1 → G_k2), S at S_k, R on the platform."""
+    joints = []
+    for k in (1, 2, 3):
+        g, u = nodes[f"G{k}1"], nodes[f"U{k}1"]
+        joints += [_r(f"G{k}", "ground", f"lower{k}", g, _sub(nodes[f"G{k}2"], g)),
+                   {"id": f"S{k}", "type": "S", "links": [f"lower{k}", f"upper{k}"], "at": nodes[f"S{k}"]},
+                   _r(f"U{k}", f"upper{k}", "platform", u, _sub(nodes[f"U{k}2"], u))]
+    links = {name: [] for k in (1, 2, 3) for name in (f"lower{k}", f"upper{k}")}
+    links["platform"] = []
+    return {"name": "3-RSR by its joints", "dim": 3, "mobility": 3,
+            "inputs": [{"joint": f"G{k}"} for k in (1, 2, 3)], "outputs": [{"twist": "platform"}],
+            "platform": "platform", "platform_dof": 3, "links": links, "joints": joints}
