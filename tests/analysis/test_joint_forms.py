@@ -126,3 +126,20 @@ def test_paper_3rsr_positions_by_their_joints(name):
     assert an.types                                   # each position is singular (the paper's point)
     for x, y in zip(an.input_relations + an.output_relations, aj.input_relations + aj.output_relations):
         assert np.allclose([c for _, c in x.coefficients], [c for _, c in y.coefficients], rtol=1e-7, atol=1e-9)
+
+
+def test_gough_joint_form_turned_and_moved():
+    gough = symkin.read_model(jf.MODELS / "gough_stewart.toml")
+    data = jf.ups_6(gough.coordinates())
+    c, s = np.cos(0.7), np.sin(0.7)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+    shift = np.array([0.3, -1.2, 4.0])
+    place = lambda p: list(rot @ np.asarray(p, float) + shift)
+    turn = lambda v: list(rot @ np.asarray(v, float))
+    for j in data["joints"]:
+        j["at"] = place(j["at"])
+        for key in ("axis", "axis2"):
+            if key in j:
+                j[key] = turn(j[key])
+    data["nodes"] = {n: place(p) for n, p in data["nodes"].items()}
+    _same(gough.moved(rotation=rot, translation=shift), symkin.Mechanism.from_dict(data))
