@@ -65,7 +65,8 @@ def bench_singularities(repeat: int, butterfly: bool = False) -> None:
     """
     import math
 
-    from symkin.solutions.circuits import _samples, singularities
+    from symkin.solutions.circuits import singularities
+    from symkin.solutions.seeding import midpoints
 
     print(f"\n{'singularities':32s} {'best s':>7s} {'base s':>7s} {'ratio':>6s} {'solve_all':>9s} {'hom s':>6s} "
           f"{'paths':>6s} {'circ':>5s} {'sing':>5s} {'agree':>6s}")
@@ -78,7 +79,7 @@ def bench_singularities(repeat: int, butterfly: bool = False) -> None:
             times.append(time.perf_counter() - t)
         critical = sorted({round(math.remainder(s.input, 2 * math.pi), 12) for s in r.singularities
                            if "DKP-input" in s.types or "IM" in s.types})
-        mids = _samples(critical, "angle")
+        mids = midpoints(critical, "angle")
         for _ in range(repeat):
             t = time.perf_counter()
             rb = singularities(m, samples=mids)

@@ -8,15 +8,37 @@ configurations in closed kinematic chains", IEEE T-RO 20(6), 2004.
 >>> result.dof, result.types
 (2, ('IM',))
 """
-from symkin import catalogue, report
-from symkin.analysis.classification import Analysis, Motion, Relation, analyze
-from symkin.analysis.motion_space import MotionSpace, motion_space
+import importlib
+
+from symkin import catalogue
 from symkin.errors import ModelError, ModelFileError, NotConvergedError, SymkinError
 from symkin.model.mechanism import Mechanism, Parameter, Slider
 from symkin.model.model_file import read_model, write_model
-from symkin.analysis.batch import Evaluators, evaluators
-from symkin.numeric.geometric_matrix import geometric_matrix
-from symkin.report import render_text
+
+#: names imported on first use (scipy and CasADi load with them, not with ``import symkin``,
+#: so that ``symkin --version`` and ``symkin --help`` are fast): name → defining module
+_LAZY = {
+    "Analysis": "symkin.analysis.classification", "Motion": "symkin.analysis.classification",
+    "Relation": "symkin.analysis.classification", "analyze": "symkin.analysis.classification",
+    "MotionSpace": "symkin.analysis.motion_space", "motion_space": "symkin.analysis.motion_space",
+    "Evaluators": "symkin.analysis.batch", "evaluators": "symkin.analysis.batch",
+    "geometric_matrix": "symkin.numeric.geometric_matrix", "render_text": "symkin.report",
+}
+
+
+def __getattr__(name: str):
+    """The public names of :data:`_LAZY` (and the module ``report``), imported on first use."""
+    if name == "report":
+        return importlib.import_module("symkin.report")
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'symkin' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
 
 
 def symbolic_model(mechanism, *args, **kwargs):

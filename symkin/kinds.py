@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from enum import StrEnum
 
-__all__ = ["Kind", "TYPES", "DKP_KINDS", "LOCUS_KINDS", "describe"]
+__all__ = ["Kind", "TYPES", "DKP_KINDS", "LOCUS_KINDS", "describe", "latex"]
 
 
 class Kind(StrEnum):
@@ -78,3 +78,16 @@ _DESCRIPTIONS = {
 def describe(kind: str) -> str:
     """The words a report uses for ``kind`` (a :class:`Kind` or its string)."""
     return _DESCRIPTIONS[Kind(kind)]
+
+
+_LATEX = {Kind.IM: r"\mathrm{IM}", Kind.DKP_INPUT: r"\mathrm{DKP}_{\mathrm{in}}",
+          Kind.DKP_OUTPUT: r"\mathrm{DKP}_{\mathrm{out}}", Kind.LIM: r"\mathrm{LIM}"}
+
+
+def latex(kind: str) -> str:
+    """The LaTeX name of a singularity kind, as conditions and loci print it.
+
+    >>> print(latex("DKP-input"))
+    \\mathrm{DKP}_{\\mathrm{in}}
+    """
+    return _LATEX[Kind(kind)]

@@ -97,9 +97,9 @@ def _statics_sentences(a) -> list[str]:
 
 
 #: what each decision compares with its threshold
-_DECIDED = {"rank": "rank of the constraint matrix", "IM": "IM: (F+1)-th smallest singular value",
-            "DKP-input": "DKP-input: min(F, k)-th singular value of the restricted inputs",
-            "DKP-output": "DKP-output: min(F, k)-th singular value of the restricted outputs"}
+_DECIDED = {"rank": "rank of the constraint matrix", Kind.IM: "IM: (F+1)-th smallest singular value",
+            Kind.DKP_INPUT: "DKP-input: min(F, k)-th singular value of the restricted inputs",
+            Kind.DKP_OUTPUT: "DKP-output: min(F, k)-th singular value of the restricted outputs"}
 
 
 def _decision(name: str, value: float, threshold: float, margin: float) -> str:

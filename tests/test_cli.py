@@ -1,6 +1,7 @@
 """The command line: reports, JSON contract, and user errors as `file: message` with exit code 2."""
 from __future__ import annotations
 
+import csv
 import json
 import math
 import subprocess
@@ -180,3 +181,109 @@ def test_path_errors_keep_their_class_and_data(capsys, monkeypatch):
     assert str(info.value) == f"{model}: Newton reached a residual of 0.25"
     code, _, err = run(capsys, "path", model, "--to", "10")
     assert code == 2 and err.strip() == f"{model}: Newton reached a residual of 0.25" and "Traceback" not in err
+
+
+def test_catalogue_names_are_models(capsys):
+    """``catalogue:NAME`` is taken wherever a model file is; an unknown name is exit 2, listing the names."""
+    code, out, err = run(capsys, "analyze", "catalogue:fourbar_dead_centre", "--json")
+    assert code == 0 and json.loads(out)["types"] == ["DKP-output", "LIM"]
+    code, out, err = run(capsys, "analyze", "catalogue:fivebar")
+    assert code == 2 and out == ""
+    assert err.startswith("catalogue:fivebar: no mechanism 'fivebar' in the catalogue; known: ") and "five_bar" in err
+
+
+def test_shipped_examples_are_the_catalogue_and_test_models():
+    """``examples/`` holds the README's models: the catalogue five-bar and the tests' map models."""
+    from symkin import read_model
+    from symkin.model import catalogue
+
+    assert read_model(ROOT / "examples" / "fivebar.toml").to_dict() == catalogue.get("five_bar").to_dict()
+    for name in ("gough_stewart.toml", "rpr_3.toml"):
+        assert (ROOT / "examples" / name).read_text() == (ROOT / "tests" / "workspace" / "models" / name).read_text()
+
+
+def test_path_and_singularities_print_the_same_numbers_for_the_same_configuration(capsys):
+    """One angle convention: relative to the model in (−180°, 180°], absolute in [0°, 360°), in every command."""
+    pytest.importorskip("bertini")
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    crank = "rotation:crank = -53.91904574 deg (absolute 23.55214655 deg)"
+    rocker = "rotation:rocker = -24.24725354 deg (absolute 61.3540411 deg)"
+    code, path_text, _ = run(capsys, "path", model, "--to", "360", "--no-progress")
+    assert code == 0 and f"at {crank}, 306.0809543 deg along the path" in path_text
+    assert f"outputs: {rocker}" in path_text
+    code, sing_text, _ = run(capsys, "singularities", model, "--no-progress")
+    assert code == 0 and f"at {crank}, {rocker}" in sing_text
+    # the JSON of both: the same numbers under the keys each had, and the absolute ones added
+    code, out, _ = run(capsys, "path", model, "--to", "360", "--json", "--no-progress")
+    event = json.loads(out)["events"][1]
+    code, out, _ = run(capsys, "singularities", model, "--json", "--no-progress")
+    (same,) = [s for s in json.loads(out)["singularities"] if abs(s["input"] - event["relative"]) < 1e-6]
+    assert event["input"] == pytest.approx(306.0809543, abs=1e-6)
+    assert same["input_absolute"] == pytest.approx(event["absolute"], abs=1e-9)
+    assert same["output"] == pytest.approx(event["outputs"]["rotation:rocker"]["relative"], abs=1e-9)
+    assert same["output_absolute"] == pytest.approx(event["outputs"]["rotation:rocker"]["absolute"], abs=1e-9)
+    for s in json.loads(out)["singularities"]:
+        assert -180 < s["input"] <= 180 and 0 <= s["input_absolute"] < 360 and 0 <= s["output_absolute"] < 360
+
+
+def test_path_csv_and_modes_give_the_outputs(capsys, tmp_path):
+    """``path --csv`` and ``modes`` give the outputs' values (relative and absolute), not only node coordinates."""
+    model = str(EXAMPLES / "fourbar_appendix.toml")
+    code, _, _ = run(capsys, "path", model, "--to", "360", "--csv", str(tmp_path / "p.csv"), "--no-progress")
+    rows = list(csv.DictReader((tmp_path / "p.csv").open()))
+    assert code == 0 and {"relative", "rotation:rocker", "rotation:rocker absolute"} <= set(rows[0])
+    assert float(rows[0]["rotation:rocker"]) == 0.0
+    assert float(rows[0]["rotation:rocker absolute"]) == pytest.approx(85.60129464500446, abs=1e-9)
+    assert all(-180 < float(r["relative"]) <= 180 and 0 <= float(r["absolute"]) < 360 for r in rows)
+    pytest.importorskip("bertini")
+    code, out, _ = run(capsys, "modes", model, "--at", "rotation:crank=30")
+    assert code == 0 and "at rotation:crank = 30 deg (absolute 107.4711923 deg)" in out
+    assert "outputs: rotation:rocker = 20.92279412 deg (absolute 106.5240888 deg)" in out
+    code, out, _ = run(capsys, "modes", model, "--at", "rotation:crank=30", "--json")
+    sols = json.loads(out)["solutions"]
+    assert sorted(round(s["outputs"]["rotation:rocker"]["relative"], 6) for s in sols) == [20.922794, 125.636035]
+
+
+def test_map_says_what_rejected_points_and_branch_changes_mean(capsys, monkeypatch):
+    """``symkin map`` explains its rejected points and branch changes: whether to trust the map, what to do."""
+    import dataclasses
+
+    import numpy as np
+
+    import symkin
+    from symkin.workspace import maps
+
+    real = symkin.workspace_map(symkin.catalogue.get("five_bar"), x="velocity:P.x=-3.5:3.5",
+                                y="velocity:P.y=0.2:4.4", n=11, refine=False)
+    rejected = np.zeros_like(real.modes[0].rejected)
+    rejected[3, 3] = True
+    mode = dataclasses.replace(real.modes[0], rejected=rejected, branch_changes=(((1, 1), (1, 2)),))
+    monkeypatch.setattr(maps, "workspace_map", lambda *a, **k: dataclasses.replace(real, modes=(mode,)))
+    code, out, _ = run(capsys, "map", "catalogue:five_bar", "--x", "velocity:P.x=-3.5:3.5",
+                       "--y", "velocity:P.y=0.2:4.4", "--n", "11", "--no-refine")
+    assert code == 0
+    assert "1 rejected point(s): " in out and "never a wrong value" in out and "give a larger --n" in out
+    assert "1 branch change(s): " in out and "can be trusted" in out and "its own --seed" in out
+
+
+@pytest.mark.parametrize("option", ["--version", "--help"])
+def test_version_and_help_import_neither_scipy_nor_casadi(option):
+    """``symkin --version`` / ``--help`` are fast: the command modules and ``import symkin`` load no heavy library."""
+    code = ("import sys, symkin.cli\n"
+            f"try:\n    symkin.cli.main([{option!r}])\nexcept SystemExit:\n    pass\n"
+            "print(sorted(m for m in ('scipy', 'casadi', 'sympy', 'matplotlib') if m in sys.modules))")
+    run_ = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert run_.returncode == 0, run_.stderr
+    assert run_.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_lazy_public_names_are_the_real_ones():
+    import symkin
+    from symkin.analysis.classification import analyze
+    from symkin.analysis.batch import evaluators
+
+    assert symkin.analyze is analyze and symkin.evaluators is evaluators
+    assert set(symkin.__all__) <= set(dir(symkin))
+    assert symkin.report.render_text is symkin.render_text
+    with pytest.raises(AttributeError):
+        symkin.no_such_name

@@ -363,7 +363,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     if margin is not None:
         decisions.append(("rank", float(s[L]) if L < s.size else 0.0, float(ms.threshold), margin))
         if f < s.size and ms.threshold > 0:
-            decisions.append(("IM", float(s[f]), float(ms.threshold), _margin(float(s[f]), float(ms.threshold))))
+            decisions.append((Kind.IM, float(s[f]), float(ms.threshold), _margin(float(s[f]), float(ms.threshold))))
     for name, ranked, k in ((Kind.DKP_INPUT, rk_in, k_in), (Kind.DKP_OUTPUT, rk_out, k_out)):
         m = min(f, k)
         if k and m > 0 and t > 0:

@@ -16,9 +16,41 @@ from typing import Callable
 from symkin.errors import ModelError, SymkinError, check_interrupt, interrupts_deferred
 
 __all__ = ["COMMANDS", "Output", "in_file", "write_output", "finite_number", "positive_number",
-           "non_negative_number", "check_holds", "check_output_folder"]
+           "non_negative_number", "check_holds", "check_output_folder", "format_coordinate", "format_outputs",
+           "LENGTH_UNITS"]
 
 COMMANDS = ["analyze", "reproduce", "path", "map", "modes", "singularities", "conditions", "codegen", "cache"]
+
+
+#: the unit of a length coordinate in the reports
+LENGTH_UNITS = "(model length units)"
+
+
+def format_coordinate(label: str, relative: float, absolute: float | None, unit: str) -> str:
+    """One coordinate as every command prints it: relative to the model, then absolute.
+
+    Angles are measured from the model's configuration, wrapped to (−180°, 180°], and, for a
+    planar link, given also as its absolute direction in [0°, 360°)
+    (:func:`symkin.paths.trace.relative_angle`); ``unit`` is ``deg``, ``rad`` or
+    :data:`LENGTH_UNITS` (a length, measured from the model, printed without a unit; its
+    absolute value is the node's coordinate for ``velocity:N.x``).
+
+    >>> format_coordinate("rotation:crank", -53.91904574, 23.55214655, "deg")
+    'rotation:crank = -53.91904574 deg (absolute 23.55214655 deg)'
+    """
+    u = "" if unit == LENGTH_UNITS else f" {unit}"  # a length: model units, said once per line at most
+    text = f"{label} = {relative:.10g}{u}"
+    return text if absolute is None else f"{text} (absolute {absolute:.10g}{u})"
+
+
+def format_outputs(values: dict, kinds: dict, unit: str) -> str:
+    """The model's outputs ``{label: {"relative", "absolute"}}`` as ``a = …, b = …`` (see :func:`format_coordinate`).
+
+    ``kinds`` maps each label to ``"angle"`` or ``"length"``.
+    """
+    return ", ".join(format_coordinate(label, v["relative"], v["absolute"],
+                                       unit if kinds[label] == "angle" else LENGTH_UNITS)
+                     for label, v in values.items())
 
 
 @dataclass(frozen=True)

@@ -3,10 +3,8 @@ from __future__ import annotations
 
 import json
 
-from symkin.analysis.classification import analyze
 from symkin.commands import Output
 from symkin.model.model_file import read_model
-from symkin.report import render_text
 
 NAME = "analyze"
 HELP = "analyse the configuration of a model file (DOF, IM, DKP, LIM, constraint singularities)"
@@ -26,13 +24,16 @@ def tolerance(text: str) -> float:
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of the text report")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance on singular values (default 1e-8; see README)")
 
 
 def run(args) -> Output:
+    from symkin.analysis.classification import analyze
+    from symkin.report import render_text
+
     mech = read_model(args.model)
     result = analyze(mech, tol=args.tol)
     if args.json:

@@ -25,7 +25,7 @@ HELP = "generate C for a model's evaluators (G, J, closure, indicators), a docum
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--out", required=True, metavar="DIR", help="directory to write into (created if needed)")
     p.add_argument("--name", default=None, metavar="STEM",
                    help="file stem (default: <model file stem>_evaluators); it also names the C functions, "

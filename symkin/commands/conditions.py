@@ -26,7 +26,7 @@ HELP = ("derive the IM, DKP-input and DKP-output singularity conditions of a mod
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--coordinates", choices=("angles", "nodes"), default=None,
                    help="configuration variables: link angles theta_<link> (planar only; the default "
                         "for planar models) or node coordinates x_<node>, y_<node> (the default in space)")

@@ -4,12 +4,11 @@ from __future__ import annotations
 import importlib.util
 import json
 import sys
-from pathlib import Path
 
 from symkin.commands import Output, check_holds, in_file, write_output
 from symkin.commands.analyze import tolerance
 from symkin.errors import SymkinError
-from symkin.model.model_file import read_model
+from symkin.model.model_file import CATALOGUE_PREFIX, read_model
 
 NAME = "map"
 HELP = ("map the singularity indicators of every working mode over two position coordinates "
@@ -27,7 +26,7 @@ def _count(text: str) -> int:
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--x", required=True, metavar="LABEL=LO:HI",
                    help="first axis: a coordinate label (velocity:P.x, rotation:L, slide:S) and its range; "
                         "absolute values (angles in --unit)")
@@ -36,7 +35,7 @@ def add_arguments(p) -> None:
     p.add_argument("--hold", action="append", default=[], metavar="LABEL[=VALUE]",
                    help="a held coordinate (F > 2 needs F - 2 of them); default value: the model's")
     p.add_argument("--seed", action="append", default=[], metavar="MODEL",
-                   help="a model file of the same mechanism in another working mode (repeatable)")
+                   help="a model file (or catalogue:NAME) of the same mechanism in another working mode (repeatable)")
     p.add_argument("--modes", choices=("model", "all"), default="model",
                    help="model: the model's configuration and each --seed; all: every real solution at the "
                         "reference point (needs the extra symkin[global])")
@@ -150,6 +149,25 @@ def _progress(enabled: bool, total: int):
     return tqdm(total=total, desc="map", unit="pt", file=sys.stderr, leave=False)
 
 
+def _trust(mode) -> list[str]:
+    """What a mode's rejected points and branch changes mean for the map, and what to do about them."""
+    lines = []
+    if mode.rejected.any():
+        lines.append(f"   {int(mode.rejected.sum())} rejected point(s): there the continuation from a neighbour "
+                     "landed too far from its prediction, or on another DKP sign pattern, even in sub-steps, so "
+                     "the point is left unassembled (a hole in the map, never a wrong value). The other points "
+                     "can be trusted; a few isolated holes near a singular curve are harmless, many mean the grid "
+                     "is too coarse for this mode: give a larger --n.")
+    if mode.branch_changes:
+        lines.append(f"   {len(mode.branch_changes)} branch change(s): between these pairs of neighbouring grid "
+                     "points (--json: modes[].branch_changes) the continuation of one mode reached configurations "
+                     "that do not join up, so the mode is not one sheet over the box there (two working modes meet, "
+                     "usually across a singular curve) and the map shows one of them. Values away from these "
+                     "points can be trusted; near them, map each working mode from its own --seed, and give a "
+                     "larger --n if they lie off every singular curve.")
+    return lines
+
+
 def _text(m) -> str:
     ax, ay = m.axes
     lines = [f"{m.model}: map over {ax.label} = {ax.lo:g}..{ax.hi:g} ({ax.n} points) × "
@@ -163,6 +181,7 @@ def _text(m) -> str:
                         if mode.rejected.any() else "")
                      + (f", {len(mode.branch_changes)} branch change(s)" if mode.branch_changes else ""))
         lines.append("   curves/points: " + ", ".join(f"{k} {v}" for k, v in c.items()))
+        lines += _trust(mode)
         if mode.note:
             lines.append(f"   {mode.note}")
     if not m.assembled_anywhere:
@@ -195,10 +214,12 @@ def run(args) -> Output:
     except SymkinError as exc:
         raise in_file(exc, args.model)
     bar = _progress(not args.no_progress and args.json != "-", args.n * args.n * (1 + len(args.seed)))
+    # a seed is a model file or a catalogue name (read here: the map reads files only)
+    seeds = tuple(read_model(s) if s.startswith(CATALOGUE_PREFIX) else s for s in args.seed)
     try:
         # --workers N: a local Dask cluster for this run, closed afterwards; --scheduler: an existing one
         with dask_client(workers=args.workers, scheduler=args.scheduler) as client:
-            m = workspace_map(mech, x=args.x, y=args.y, n=args.n, hold=tuple(args.hold), seeds=tuple(args.seed),
+            m = workspace_map(mech, x=args.x, y=args.y, n=args.n, hold=tuple(args.hold), seeds=seeds,
                               modes=args.modes, refine=not args.no_refine, unit=args.unit, tol=args.tol,
                               progress=bar.update if bar is not None else None, client=client)
     except SymkinError as exc:

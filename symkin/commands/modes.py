@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from symkin.commands import Output
+from symkin.commands import Output, format_outputs
 from symkin.commands.analyze import tolerance
 from symkin.commands import in_file
 from symkin.errors import SymkinError
@@ -15,7 +15,7 @@ HELP = ("every real configuration with given input or output values (assembly / 
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--at", metavar="LABEL=VALUE", action="append", default=[],
                    help="a prescribed value, measured from the model's configuration, e.g. rotation:crank=30 "
                         "(repeat: exactly F values)")
@@ -46,6 +46,30 @@ def parse_values(items: list[str]) -> dict[str, float]:
     return out
 
 
+def _values(result, solution) -> dict:
+    """The prescribed coordinates and the model's outputs at a solution, relative and absolute.
+
+    ``{"values": {label: {"relative", "absolute"}}, "outputs": {...}, "kinds": {label: kind}}``
+    in the result's unit (the convention of :func:`symkin.paths.trace.relative_angle`).
+    """
+    from symkin.paths.trace import CoordinateValues
+
+    prescribed = CoordinateValues(result.mechanism, list(result.values))
+    outputs = CoordinateValues(result.mechanism)
+    kinds = {c.label: c.kind for c in prescribed.coordinates + outputs.coordinates}
+    return {"values": prescribed(solution.configuration, result.unit),
+            "outputs": outputs(solution.configuration, result.unit), "kinds": kinds}
+
+
+def _json(result) -> dict:
+    """``result.to_dict()`` with each solution's ``values`` and ``outputs`` (relative and absolute)."""
+    data = result.to_dict()
+    for item, s in zip(data["solutions"], result.solutions):
+        at = _values(result, s)
+        item["values"], item["outputs"] = at["values"], at["outputs"]
+    return data
+
+
 def _text(result) -> str:
     mech = result.mechanism
     lines = [f"{mech.name}: {len(result.solutions)} real solution(s) at "
@@ -58,6 +82,10 @@ def _text(result) -> str:
                           f"{'undefined' if v is None else ''}" for key, v in s.signs.items())
         kinds = f"; types: {', '.join(s.types)}" if s.types else ""
         lines.append(f"{k}. signs: {signs}{kinds}; residual {s.residual:.1e}")
+        at = _values(result, s)
+        for what, key in (("at", "values"), ("outputs:", "outputs")):
+            if at[key]:
+                lines.append(f"   {what} {format_outputs(at[key], at['kinds'], result.unit)}")
         for n in mech.free_nodes:
             lines.append(f"   {n} = ({', '.join(f'{c:.10g}' for c in s.configuration[n])})")
         if s.analysis is not None:
@@ -76,5 +104,5 @@ def run(args) -> Output:
     except SymkinError as exc:
         raise in_file(exc, args.model)
     if args.json:
-        return Output(json.dumps(result.to_dict(), indent=1))
+        return Output(json.dumps(_json(result), indent=1))
     return Output(_text(result))

@@ -7,9 +7,10 @@ import json
 import math
 import sys
 
-from symkin.commands import Output, finite_number, in_file, positive_number, write_output
+from symkin.commands import (LENGTH_UNITS, Output, finite_number, format_coordinate, format_outputs, in_file,
+                             positive_number, write_output)
 from symkin.commands.analyze import tolerance
-from symkin.errors import ModelError, SymkinError
+from symkin.errors import SymkinError
 from symkin.model.model_file import read_model
 
 NAME = "path"
@@ -18,7 +19,7 @@ HELP = ("move a mechanism along one input (finite displacements), locate every s
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json)")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME")
     p.add_argument("--input", default=None,
                    help="driving input label, e.g. rotation:crank (default: the model's first input); "
                         "with F > 1 the model's other inputs are held at their values")
@@ -61,8 +62,11 @@ def _progress_bar(enabled: bool):
 
 
 def _text(path, unit: str) -> str:
-    conv = 180.0 / math.pi if (path.kind == "angle" and unit == "deg") else 1.0
-    u = unit if path.kind == "angle" else "(model length units)"
+    from symkin.paths.trace import CoordinateValues
+
+    u = unit if path.kind == "angle" else LENGTH_UNITS
+    outputs = CoordinateValues(path.mechanism)
+    kinds = {c.label: c.kind for c in outputs.coordinates}
     lines = [f"{path.mechanism.name}: {path.drive} traced, {len(path.points)} points; "
              f"stopped: {path.message}.", ""]
     sing = path.singular_events()
@@ -70,9 +74,12 @@ def _text(path, unit: str) -> str:
         lines.append("No singular configuration on the way.")
     for k, e in enumerate(sing, 1):
         a = e.analysis
-        absolute = f", absolute {e.absolute * conv:.10g} {u}" if e.absolute is not None else ""
-        lines.append(f"{k}. {e.kind} at {path.drive} = {e.input * conv:.10g} {u}{absolute} "
+        v = path.values(e, unit)
+        along = f", {v['input']:.10g} {u} along the path" if v["input"] != v["relative"] else ""
+        lines.append(f"{k}. {e.kind} at {format_coordinate(path.drive, v['relative'], v['absolute'], u)}{along} "
                      f"(found by {', '.join(e.tests)})")
+        if kinds:
+            lines.append(f"   outputs: {format_outputs(outputs(e.coordinates, unit), kinds, unit)}")
         if e.reason:
             lines.append(f"   {e.reason}")
         if e.confirmed is False:
@@ -92,19 +99,26 @@ def _text(path, unit: str) -> str:
 
 
 def _csv(path, unit: str) -> str:
-    conv = 180.0 / math.pi if (path.kind == "angle" and unit == "deg") else 1.0
+    """The points as CSV: ``input`` (along the path), ``absolute`` ([0°, 360°)), ``s``, ``relative``
+    ((−180°, 180°]), the indicators, each output (relative, and ``<label> absolute`` for a planar
+    angle or a node's coordinate), then the node coordinates."""
+    from symkin.paths.trace import CoordinateValues
+
+    outputs = CoordinateValues(path.mechanism)
     keys = sorted({k for p in path.points for k in p.indicators})
     dim = path.mechanism.dim
     coords = [f"{c}_{n}" for n in path.node_names for c in "xyz"[:dim]]
+    rows = [(path.values(p, unit), outputs(p.coordinates, unit)) for p in path.points]
+    has_absolute = [label for label in outputs.labels if any(o[label]["absolute"] is not None for _, o in rows)]
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["input", "absolute", "s"] + keys + coords)
-    for p in path.points:
-        w.writerow([p.input * conv, "" if p.absolute is None else p.absolute * conv, p.s]
-                   + [p.indicators.get(k, "") for k in keys] + list(p.coordinates.ravel()))
+    w.writerow(["input", "absolute", "s", "relative"] + keys + list(outputs.labels)
+               + [f"{label} absolute" for label in has_absolute] + coords)
+    for p, (v, o) in zip(path.points, rows):
+        w.writerow([v["input"], "" if v["absolute"] is None else v["absolute"], p.s, v["relative"]]
+                   + [p.indicators.get(k, "") for k in keys] + [o[label]["relative"] for label in outputs.labels]
+                   + [o[label]["absolute"] for label in has_absolute] + list(p.coordinates.ravel()))
     return buf.getvalue()
-
-
 
 
 def run(args) -> Output:

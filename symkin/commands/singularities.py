@@ -5,19 +5,20 @@ import json
 import sys
 import warnings
 
-from symkin.commands import Output
+from symkin.commands import Output, format_outputs
 from symkin.commands.analyze import tolerance
 from symkin.commands import in_file
 from symkin.errors import SymkinError
+from symkin.kinds import Kind
 from symkin.model.model_file import read_model
 
 NAME = "singularities"
-HELP = ("every circuit of a 1-DOF mechanism and every DKP-input, DKP-output and IM configuration on it "
+HELP = ("every circuit of a 1-DOF mechanism and every DKP-input, DKP-output, IM and LIM configuration on it "
         "(traced circuits, cross-checked by homotopy); needs the extra symkin[global]")
 
 
 def add_arguments(p) -> None:
-    p.add_argument("model", help="model file (.toml or .json) of a 1-DOF mechanism")
+    p.add_argument("model", help="model file (.toml or .json) or catalogue:NAME of a 1-DOF mechanism")
     p.add_argument("--unit", choices=("deg", "rad"), default="deg",
                    help="unit of the reported angles (default deg; lengths are in model units)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -62,8 +63,9 @@ def _values(text: str) -> list[float]:
 
 
 def _text(result) -> str:
+    from symkin.paths.trace import CoordinateValues
+
     mech = result.mechanism
-    u = result.unit if result.kind == "angle" else "(model length units)"
     lines = [f"{mech.name}: {len(result.circuits)} circuit(s), {len(result.singularities)} singular "
              f"configuration(s), input {result.input} ({result.seconds:.1f} s).", ""]
     for c in result.circuits:
@@ -71,23 +73,27 @@ def _text(result) -> str:
         lines.append(f"circuit {c.index}: {len(c.branches)} traced branch(es), {what}"
                      + ("" if c.closed else " (NOT closed)"))
     lines.append("")
+    labels = [result.input] + ([] if result.output is None else [result.output])
+    values = CoordinateValues(mech, labels)
+    kinds = {c.label: c.kind for c in values.coordinates}
     for k, s in enumerate(result.singularities, 1):
-        out = "" if s.output is None else f", {result.output} = {s.output:.10g}"
-        lines.append(f"{k}. circuit {s.circuit}: {', '.join(s.types) or 'none'} (L = {s.dof}) at "
-                     f"{result.input} = {s.input:.10g} {u}{out}")
+        at = format_outputs(values(s.configuration, result.unit), kinds, result.unit)
+        locked = f", locked links: {', '.join(s.locked_links)}" if s.locked_links else ""
+        lines.append(f"{k}. circuit {s.circuit}: {', '.join(s.types) or 'none'} (L = {s.dof}{locked}) at {at}")
         for n in mech.free_nodes:
             lines.append(f"   {n} = ({', '.join(f'{c:.10g}' for c in s.configuration[n])})")
     lines.append("")
     for ch in result.checks:
+        what = (f"{ch.name}/IM configuration(s)" if ch.kind != Kind.LIM
+                else f"configuration(s) where {ch.link} is locked, or IM")
         if ch.skipped:
-            lines.append(f"cross-check {ch.kind}: NOT solved ({ch.skipped}); {ch.traced} traced {ch.kind}/IM "
-                         "configuration(s), not cross-checked")
+            lines.append(f"cross-check {ch.name}: NOT solved ({ch.skipped}); {ch.traced} traced {what}, "
+                         "not cross-checked")
             continue
         how = (f"exact, msolve, instead of a homotopy of {ch.paths} paths" if ch.solver == "msolve"
                else f"{ch.paths} paths")
-        lines.append(f"cross-check {ch.kind}: {ch.homotopy} real solution(s) of closure + det = 0 "
-                     f"({how}), {ch.traced} traced {ch.kind}/IM configuration(s): "
-                     + ("agree" if ch.agree else "DISAGREE"))
+        lines.append(f"cross-check {ch.name}: {ch.homotopy} real solution(s) of closure + det = 0 "
+                     f"({how}), {ch.traced} traced {what}: " + ("agree" if ch.agree else "DISAGREE"))
     lines += [f"warning: {w}" for w in result.warnings]
     return "\n".join(lines)
 

@@ -15,7 +15,8 @@ An :class:`EventType` says
 A :class:`StopRule` says when a trace ends: :class:`ParameterReached` (the curve's parameter,
 e.g. a path's input, reaches its target: located like an event, kind ``end``),
 :class:`Closed` (back on the start), :class:`ArclengthLimit`, :class:`LeftBox` (a point
-outside a box of the curve's coordinates, for maps).  The tracer
+outside a box of the curve's coordinates, for maps), and a caller's :class:`StepRule` (decided
+on a step, first, e.g. a curve that leaves a region through a located end).  The tracer
 (:mod:`symkin.curves.tracer`) applies them.
 
 >>> import numpy as np
@@ -29,7 +30,7 @@ True
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
@@ -39,7 +40,7 @@ from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT
 
 __all__ = ["EventType", "SingularEvent", "StopRule", "ParameterReached", "Closed", "ArclengthLimit", "LeftBox",
-           "TestFunction", "FLAT", "ROOT", "DETECT"]
+           "StepRule", "StepEnd", "TestFunction", "FLAT", "ROOT", "DETECT"]
 
 #: a signed test below this at both ends of a step is identically zero there: no isolated root
 #: (the curve runs along such a configuration, e.g. a locked input link)
@@ -243,3 +244,35 @@ class LeftBox(StopRule):
     def reached(self, point, parameter) -> bool:
         c = np.asarray(self.coordinates(point.y), float)
         return bool(np.any(c < self.lower) or np.any(c > self.upper))
+
+
+@dataclass(frozen=True)
+class StepEnd:
+    """What a :class:`StepRule` found on a step: why the trace ends, where, and whether the step's point is kept.
+
+    ``event`` is the located end (or None), ``keep`` whether the step's new point is recorded
+    before the trace ends, ``data`` anything the rule's caller wants back (the tracer only
+    passes it on, in :attr:`symkin.curves.tracer.Stop.data`).
+    """
+
+    reason: str
+    event: CurveEvent | None = field(default=None, repr=False)
+    keep: bool = False
+    message: str = ""
+    data: Any = field(default=None, repr=False)
+
+
+class StepRule(StopRule):
+    """A stop rule decided on a step ``history[-1] → point`` (``history``: the last recorded points, oldest first).
+
+    The tracer checks its step rules first at each step, in the order given, before the
+    step's events are located: the first :meth:`check` that returns a :class:`StepEnd` ends
+    the trace (events past the end are not on the traced piece).
+    """
+
+    def check(self, problem: CurveProblem, history: tuple[CurvePoint, ...],
+              point: CurvePoint) -> StepEnd | None:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def reached(self, point, parameter) -> bool:
+        return False  # decided on a step by :meth:`check`

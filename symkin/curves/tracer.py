@@ -27,11 +27,11 @@ previous point's value (unwrapping angles).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from symkin.curves.events import ArclengthLimit, Closed, EventType, ParameterReached, StopRule
+from symkin.curves.events import ArclengthLimit, Closed, EventType, ParameterReached, StepRule, StopRule
 from symkin.curves.locate import CurveEvent, locate_sign_change, polish
 from symkin.curves.stepper import CurvePoint, CurveProblem, Settings, SteppingError, continue_curve
 from symkin.errors import NotConvergedError
@@ -83,7 +83,8 @@ class Stop:
     """Why the trace ended: ``reason``, ``message``; ``event`` the located end (a :class:`ParameterReached`).
 
     ``point`` is the accepted point at which the rule fired (not among the recorded points
-    when the rule is located or :class:`Closed`).
+    when the rule is located or :class:`Closed`, nor for a :class:`StepRule` unless its end
+    says ``keep``); ``data`` what a :class:`StepRule` handed back.
     """
 
     reason: str
@@ -91,6 +92,7 @@ class Stop:
     event: CurveEvent | None = field(default=None, repr=False)
     rule: StopRule | None = field(default=None, repr=False)
     point: TracedPoint | None = field(default=None, repr=False)
+    data: Any = field(default=None, repr=False)
 
 
 @dataclass(frozen=True)
@@ -145,8 +147,10 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
         Every located event is polished onto the curve (:func:`~symkin.curves.locate.polish`
         at ``tolerances.closure``, ``rcond = tolerances.rank``).
     stops : sequence of StopRule
-        Checked in this order at each step: a located rule (:class:`ParameterReached`) and
-        :class:`Closed` before the new point is recorded, the others after it.
+        Checked in this order at each step: the :class:`~symkin.curves.events.StepRule` rules first
+        (in the order given, before the step's events are located), then, after the events, a
+        located rule (:class:`ParameterReached`) and :class:`Closed` before the new point is
+        recorded, the others after it.
     parameter, p0 : callable, float
         ``parameter(y, reference)`` the curve's parameter at ``y`` continued from
         ``reference`` (default 0 everywhere); ``p0`` its value at ``y0``.
@@ -170,7 +174,8 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
     history: list[tuple[CurvePoint, dict, float]] = []
     located = [r for r in stops if isinstance(r, ParameterReached)]
     closed = [r for r in stops if isinstance(r, Closed)]
-    after = [r for r in stops if not isinstance(r, (ParameterReached, Closed))]
+    on_step = [r for r in stops if isinstance(r, StepRule)]
+    after = [r for r in stops if not isinstance(r, (ParameterReached, Closed, StepRule))]
     limit = next((r for r in after if isinstance(r, ArclengthLimit)), None)
     stop = (Stop(limit.reason, limit.message, None, limit) if limit is not None else
             Stop("max_steps", f"the step limit ({settings.max_steps} steps) was reached"))
@@ -193,6 +198,19 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
     try:
         for cp in continue_curve(problem, y0, t0, settings, guard=guard):
             p = param(cp.y, history[-1][2] if history else p0)
+            if history and on_step:
+                before = tuple(h[0] for h in history)
+                ended, rule = None, None
+                for rule in on_step:
+                    ended = rule.check(problem, before, cp)
+                    if ended is not None:
+                        break
+                if ended is not None:
+                    if ended.keep:
+                        keep(cp, {}, p)
+                    stop = Stop(ended.reason, ended.message or rule.message, ended.event, rule, TracedPoint(cp, p),
+                                ended.data)
+                    break
             vals = {e.name: e.value(cp.y, cp.t) for e in events}
             if history:
                 pcp, pvals, pp = history[-1]

@@ -11,7 +11,7 @@ from symkin.errors import ModelError, ModelFileError, Problem
 from symkin.model.mechanism import Mechanism
 from symkin.model.validation import parse_mechanism
 
-__all__ = ["read_model", "write_model", "load_model_data"]
+__all__ = ["read_model", "write_model", "load_model_data", "CATALOGUE_PREFIX"]
 
 
 def _reject_duplicates(pairs):
@@ -63,14 +63,29 @@ def load_model_data(path: str | Path) -> dict:
     raise ModelFileError(path, [Problem("", f"unknown model file type {path.suffix!r}: use .toml or .json")])
 
 
+CATALOGUE_PREFIX = "catalogue:"
+
+
 def read_model(path: str | Path) -> Mechanism:
-    """Read and validate a model file.
+    """Read and validate a model file, or build a catalogue mechanism.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.toml`` or ``.json`` model file, or ``catalogue:NAME`` for the mechanism
+        ``NAME`` of :mod:`symkin.catalogue` (every command that takes a model takes this).
+
+    Returns
+    -------
+    Mechanism
+        The validated mechanism.
 
     Raises
     ------
     ModelFileError
         For a missing or malformed file, or one that describes an invalid mechanism;
-        ``.problems`` lists every problem with the key, node or link at fault.
+        ``.problems`` lists every problem with the key, node or link at fault.  An
+        unknown catalogue name is one problem that lists the known names.
 
     Examples
     --------
@@ -78,7 +93,11 @@ def read_model(path: str | Path) -> Mechanism:
     >>> m = symkin.read_model(pathlib.Path(symkin.__file__).parents[1] / "papers_examples" / "fourbar_appendix.toml")
     >>> m.link_names
     ('crank', 'coupler', 'rocker')
+    >>> symkin.read_model("catalogue:five_bar").name
+    'five-bar (2RR)'
     """
+    if isinstance(path, str) and path.startswith(CATALOGUE_PREFIX):
+        return _catalogue_model(path[len(CATALOGUE_PREFIX):])
     path = Path(path)
     data = load_model_data(path)
     if isinstance(data, dict) and "name" not in data:
@@ -87,6 +106,16 @@ def read_model(path: str | Path) -> Mechanism:
         return parse_mechanism(data, source=str(path))
     except ModelError as exc:
         raise ModelFileError(path, exc.problems) from None
+
+
+def _catalogue_model(name: str) -> Mechanism:
+    """The catalogue's mechanism ``name``; an unknown name is a :class:`ModelFileError` listing the names."""
+    from symkin.model import catalogue
+
+    if name not in catalogue.names():
+        raise ModelFileError(CATALOGUE_PREFIX + name, [Problem(
+            "", f"no mechanism {name!r} in the catalogue; known: {', '.join(catalogue.names())}")])
+    return catalogue.get(name)
 
 
 def _toml_value(value) -> str:

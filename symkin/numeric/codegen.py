@@ -301,6 +301,9 @@ def build_library(c_path, so_path, compiler: str | None = None, flags=DEFAULT_FL
         os.unlink(tmp)
         raise CompilerError(f"C compiler {cc!r} failed (exit {proc.returncode}): "
                             f"{proc.stderr.strip()[:2000]}", proc.stderr)
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp, 0o777 & ~mask)  # the mode a linker gives a library, not mkstemp's 0600 (+x)
     os.replace(tmp, so_path)
     return so_path
 

@@ -69,7 +69,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from symkin.curves.corrector import gauss_newton
+from symkin.curves.corrector import gauss_newton_batch
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.casadi_model import CasadiModel, build
 from symkin.numeric.linalg import independent_rows
@@ -336,13 +336,13 @@ def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: in
     q0, ell = cm.q0(), cm.mech.length_scale
     rng = np.random.default_rng(0)
 
-    def closure(y):  # dimensionless: phi(ℓ y) / ℓ and its Jacobian in y
-        phi, jac = f_cl(ell * y, cm.p0)
-        return np.array(phi).ravel() / ell, np.array(jac)
+    def closure(q_batch, index):  # model units; the tolerance below carries the length scale
+        phi, jac = f_cl(q_batch[0], cm.p0)
+        return np.array(phi).reshape(1, -1), np.array(jac)[None]
 
-    fit = gauss_newton(closure, q0 / ell + _GENERIC_OFFSET * rng.standard_normal(q0.size),
-                       tol=DEFAULT.closure, max_iterations=30, norm="max", rcond=DEFAULT.pinv)
-    qg = ell * fit.z if fit.converged else q0
+    fit = gauss_newton_batch(closure, q0 + _GENERIC_OFFSET * ell * rng.standard_normal(q0.size),
+                             tol=DEFAULT.closure * ell, max_iterations=30, diverge_after=31, rcond=DEFAULT.pinv)
+    qg = fit.z[0] if fit.converged[0] else q0
     jn = np.array(f_je(qg))
     chosen = independent_rows(jn, tol)
     if len(chosen) != rank:

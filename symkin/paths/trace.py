@@ -50,12 +50,15 @@ from symkin.curves.tracer import TracedPoint, trace_curve
 from symkin.errors import SymkinError
 from symkin.kinds import Kind, describe
 from symkin.model.mechanism import Mechanism
+from symkin.model.labels import driving_labels
+from symkin.numeric.coordinates import InputCoordinate, parse_input_label
 from symkin.numeric.linalg import independent_rows
 from symkin.paths.branching import Bifurcation, branch_directions
 from symkin.paths.system import MechanismCurve, make_curve
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch"]
+__all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch", "relative_angle", "absolute_angle",
+           "CoordinateValues"]
 
 #: kinds in merging order: an event located by several tests takes the first of their kinds
 KIND_PRIORITY = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
@@ -67,9 +70,111 @@ MAX_ARCLENGTH = 60.0
 START_CLOSURE = 1e-9
 
 
+# ---------------------------------------------------------------------- the angle convention
+def relative_angle(value: float) -> float:
+    """An angle measured from the model's configuration, wrapped to (−π, π] (radians).
+
+    Every command, JSON, CSV and plot gives an angle coordinate twice: *relative* to the
+    model, in (−180°, 180°], and *absolute* (a planar link's direction, first node → second
+    node, from +x), in [0°, 360°).
+
+    >>> relative_angle(math.radians(306.0809543)) == math.radians(306.0809543) - 2 * math.pi
+    True
+    >>> relative_angle(-math.pi) == math.pi
+    True
+    """
+    r = math.remainder(value, 2 * math.pi)
+    return math.pi if r == -math.pi else r
+
+
+def absolute_angle(value: float | None) -> float | None:
+    """An absolute angle wrapped to [0, 2π) (radians); None stays None (see :func:`relative_angle`).
+
+    >>> round(math.degrees(absolute_angle(math.radians(-144.9666511))), 7)
+    215.0333489
+    """
+    if value is None:
+        return None
+    a = value % (2 * math.pi)
+    return 0.0 if a >= 2 * math.pi else a
+
+
+class CoordinateValues:
+    """Coordinates (the model's outputs by default) at any configuration: relative and absolute.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The mechanism; values are measured from its configuration.
+    labels : sequence of str, optional
+        Coordinate labels (as ``symkin path --input`` takes them); default the model's
+        scalar outputs (twists and the like, which no one coordinate measures, are left out).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> m = get("fourbar_appendix")
+    >>> v = CoordinateValues(m)(np.array([c for _, c in m.nodes]), unit="deg")
+    >>> v["rotation:rocker"]["relative"], round(v["rotation:rocker"]["absolute"], 6)
+    (0.0, 85.601295)
+    """
+
+    def __init__(self, mech: Mechanism, labels=None):
+        import casadi as ca
+
+        coords = ([InputCoordinate.of(c) for c in driving_labels(mech, mech.outputs)] if labels is None
+                  else [parse_input_label(mech, label) for label in labels])
+        x = ca.SX.sym("x", len(mech.nodes) * mech.dim)
+        x0 = np.array([p for _, p in mech.nodes], float)
+        self.mech, self.coordinates = mech, tuple(coords)
+        self._f = ca.Function("values", [x], [ca.vertcat(*[c.expression(mech, x, x0) for c in coords])]) \
+            if coords else None
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        return tuple(c.label for c in self.coordinates)
+
+    def __call__(self, configuration, unit: str = "rad") -> dict:
+        """``{label: {"relative": r, "absolute": a}}`` at ``configuration`` ((n, dim) array or node dict).
+
+        Angles in ``unit`` by the convention of :func:`relative_angle` (``absolute`` None for a
+        spatial rotation); lengths in model units, ``absolute`` the node's coordinate for
+        ``velocity:N.x`` (as a map's axes take it), None for a slide.
+        """
+        if isinstance(configuration, dict):
+            configuration = [configuration[n] for n in self.mech.node_names]
+        x = np.asarray(configuration, float).reshape(len(self.mech.nodes), self.mech.dim)
+        if self._f is None:
+            return {}
+        values = np.asarray(self._f(x.ravel()), float).ravel()
+        out = {}
+        for c, v in zip(self.coordinates, values):
+            if c.kind == "angle":
+                conv = 180.0 / math.pi if unit == "deg" else 1.0
+                a = absolute_angle(c.absolute(self.mech, x))
+                out[c.label] = {"relative": relative_angle(float(v)) * conv,
+                                "absolute": None if a is None else a * conv}
+            else:
+                out[c.label] = {"relative": float(v), "absolute": _node_coordinate(self.mech, c, x)}
+        return out
+
+
+def _node_coordinate(mech: Mechanism, c: InputCoordinate, x: np.ndarray) -> float | None:
+    """The absolute value of a node's coordinate label (``velocity:P.x`` → x of P, as a map's axes); else None."""
+    if c.parameter.kind != "velocity" or c.component is None:
+        return None
+    return float(x[mech.node_index()[c.parameter.target[0]], c.component])
+
+
 @dataclass(frozen=True)
 class PathPoint:
-    """One accepted point: driving input (radians / model units), arclength, coordinates, indicators."""
+    """One accepted point: driving input (radians / model units), arclength, coordinates, indicators.
+
+    ``input`` is the input along the path, measured from the model's configuration and
+    continuous (a crank turned once ends at 2π); ``absolute`` (a planar rotation) is in
+    [0, 2π).  :meth:`Path.values` gives them in the unit the path was traced in, with the
+    input relative to the model wrapped to (−180°, 180°] (:func:`relative_angle`).
+    """
 
     input: float
     s: float
@@ -80,7 +185,11 @@ class PathPoint:
 
 @dataclass(frozen=True)
 class PathEvent:
-    """A located singular configuration (or the path's end) and its full analysis."""
+    """A located singular configuration (or the path's end) and its full analysis.
+
+    ``input``, ``absolute`` as for :class:`PathPoint` (radians for angles, whatever unit the
+    path was traced in: :meth:`Path.values` converts).
+    """
 
     kind: str
     input: float
@@ -157,12 +266,52 @@ class Path:
     curve: MechanismCurve | None = field(default=None, repr=False, compare=False)
     turning_input: float | None = None
     turning_absolute: float | None = None
+    unit: str = "rad"
 
     def singular_events(self) -> tuple[PathEvent, ...]:
         return tuple(e for e in self.events if e.kind != Kind.END)
 
-    def to_dict(self, unit: str = "rad") -> dict:
-        """JSON-ready: ``points`` and ``events`` with inputs in ``unit`` (``"deg"`` or ``"rad"``)."""
+    def values(self, item: PathPoint | PathEvent, unit: str | None = None) -> dict:
+        """The input of a point or event in ``unit`` (default: the unit the path was traced in).
+
+        Returns
+        -------
+        dict
+            ``{"input": along the path (continuous, from the model's configuration),
+            "relative": the same wrapped to (−180°, 180°], "absolute": in [0°, 360°) or None}``
+            for an angle input (degrees or radians); for a length input the three are
+            ``input``, ``input`` and None, in model units.
+
+        Examples
+        --------
+        >>> from symkin.model.catalogue import get
+        >>> p = trace(get("fourbar_appendix"), stop=360, unit="deg")
+        >>> {k: round(v, 4) for k, v in p.values(p.singular_events()[-1]).items()}
+        {'input': 306.081, 'relative': -53.919, 'absolute': 23.5521}
+        """
+        unit = self.unit if unit is None else unit
+        if self.kind != "angle":
+            return {"input": item.input, "relative": item.input, "absolute": None}
+        conv = 180.0 / math.pi if unit == "deg" else 1.0
+        a = absolute_angle(item.absolute)
+        return {"input": item.input * conv, "relative": relative_angle(item.input) * conv,
+                "absolute": None if a is None else a * conv}
+
+    def outputs(self, item: PathPoint | PathEvent, unit: str | None = None) -> dict:
+        """The model's outputs at a point or event: ``{label: {"relative": r, "absolute": a}}``.
+
+        Angles in ``unit`` (default: the path's) by the convention of :func:`relative_angle`.
+        """
+        return _coordinate_values(self.mechanism)(item.coordinates, self.unit if unit is None else unit)
+
+    def to_dict(self, unit: str | None = None) -> dict:
+        """JSON-ready: ``points`` and ``events`` with inputs in ``unit`` (``"deg"`` or ``"rad"``).
+
+        ``unit`` defaults to the unit the path was traced in.  Each point and event has
+        ``input`` (along the path), ``relative`` (wrapped to (−180°, 180°]) and ``absolute``
+        (in [0°, 360°)), and ``outputs``: the model's outputs (see :meth:`outputs`).
+        """
+        unit = self.unit if unit is None else unit
         conv = (180.0 / math.pi) if (unit == "deg" and self.kind == "angle") else 1.0
 
         def cfg(c):
@@ -171,12 +320,15 @@ class Path:
         def num(v):
             return None if v is None else float(v) * conv
 
-        points = [{"input": num(p.input), "absolute": num(p.absolute), "s": p.s,
-                   "configuration": cfg(p.coordinates), "indicators": dict(p.indicators)} for p in self.points]
+        def at(p):
+            return {**self.values(p, unit), "s": p.s, "outputs": self.outputs(p, unit)}
+
+        points = [{**at(p), "configuration": cfg(p.coordinates), "indicators": dict(p.indicators)}
+                  for p in self.points]
         events = []
         for e in self.events:
             a = e.analysis
-            item = {"input": num(e.input), "absolute": num(e.absolute), "s": e.s, "kind": e.kind,
+            item = {**at(e), "kind": e.kind,
                     "types": list(a.types) if a else [], "locked_links": list(a.locked_links) if a else [],
                     "dof": a.dof if a else None, "configuration": cfg(e.coordinates),
                     "tests": list(e.tests), "kinds": list(e.kinds), "confirmed": e.confirmed, "test_value": e.value,
@@ -190,7 +342,9 @@ class Path:
         return {"mechanism": self.mechanism.name, "input": self.drive, "unit": unit if self.kind == "angle" else
                 "model length", "stop_reason": self.stop_reason, "message": self.message,
                 "turning": None if self.turning_input is None else
-                {"input": num(self.turning_input), "absolute": num(self.turning_absolute)},
+                {"input": num(self.turning_input), "relative": None if self.turning_input is None else
+                 num(relative_angle(self.turning_input) if self.kind == "angle" else self.turning_input),
+                 "absolute": num(absolute_angle(self.turning_absolute))},
                 "residual_evaluations": self.residual_evaluations, "points": points, "events": events}
 
 
@@ -408,6 +562,19 @@ def _indicators(tests: list[EventType], y, t) -> dict:
     return out
 
 
+def _coordinate_values(mech: Mechanism) -> CoordinateValues:
+    """The model's outputs as :class:`CoordinateValues`, built once per mechanism."""
+    cached = _VALUES.get(mech)
+    if cached is None:
+        cached = _VALUES[mech] = CoordinateValues(mech)
+        while len(_VALUES) > 16:
+            _VALUES.pop(next(iter(_VALUES)))
+    return cached
+
+
+_VALUES: dict[Mechanism, CoordinateValues] = {}
+
+
 def _unwrap(value: float, reference: float, kind: str) -> float:
     if kind != "angle":
         return value
@@ -576,14 +743,14 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
         bif = (branch_directions(counted, item.y, rank_tol=tolerances.event_threshold)
                if (branch_analysis and item.kind == Kind.IM) else None)
         events.append(PathEvent(item.kind, item.p, item.s, x, analysis, item.value, item.evaluations,
-                                curve.drive.absolute(mech, x), bif, item.y, item.t, item.tests))
+                                absolute_angle(curve.drive.absolute(mech, x)), bif, item.y, item.t, item.tests))
     ev = traced.stop.event
     if ev is not None:
         y_end = polish(counted, ev.y, tolerances.closure, tolerances.rank)
         points.append(_point(curve, y_end, stop, ev.s, tests, ev.t))
         if record:
             events.append(PathEvent(Kind.END, stop, ev.s, curve.x_of(y_end), None, ev.value, ev.evaluations,
-                                    curve.drive.absolute(mech, curve.x_of(y_end)), None, y_end, ev.t,
+                                    absolute_angle(curve.drive.absolute(mech, curve.x_of(y_end))), None, y_end, ev.t,
                                     (str(Kind.END),)))
     turn = _turning(points, events, start, stop, kind) if reason == Kind.CLOSED else None
     if turn is not None:
@@ -592,7 +759,8 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
         message = (f"the input cannot reach {_format_value(stop, kind, unit)}: it turns back at "
                    f"{_format_value(turn.input, kind, unit)}{absolute}, and the path closed on its start")
     return Path(mech, curve.drive.label, kind, tuple(points), tuple(events), reason, message, counted.total,
-                mech.node_names, curve, None if turn is None else turn.input, None if turn is None else turn.absolute)
+                mech.node_names, curve, None if turn is None else turn.input, None if turn is None else turn.absolute,
+                unit)
 
 
 def _format_value(value: float, kind: str, unit: str) -> str:
@@ -625,7 +793,8 @@ def _turning(points, events, start: float, stop: float, kind: str):
 
 def _point(curve, y, value, s, tests, t) -> PathPoint:
     x = curve.x_of(y)
-    return PathPoint(value, s, x, _indicators(tests, y, t) if tests else {}, curve.drive.absolute(curve.mech, x))
+    return PathPoint(value, s, x, _indicators(tests, y, t) if tests else {},
+                     absolute_angle(curve.drive.absolute(curve.mech, x)))
 
 
 def follow_branch(path: Path, event: PathEvent | int, branch: int, sign: float = 1.0,

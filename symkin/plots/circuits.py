@@ -2,7 +2,8 @@
 
 Reads a :class:`symkin.solutions.circuits.Singularities` (``symkin singularities``) and draws
 it: each circuit in its own colour (all its traced branches), every singular configuration
-marked by type (IM, DKP-input, DKP-output, as in :mod:`symkin.plots.paths`) and numbered as
+marked by type (IM, DKP-input, DKP-output as in :mod:`symkin.plots.paths`; LIM, a link locked, by
+:data:`LIM_STYLE`) and numbered as
 in the text report and the JSON ``singularities``.  Angles are wrapped to (−180°, 180°] (or
 (−π, π]) and a curve is broken where it wraps.  A model without an output is drawn against
 the arclength along each branch instead.
@@ -15,10 +16,16 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from symkin.errors import SymkinError
+from symkin.kinds import Kind
 from symkin.plots.paths import STYLE
 from symkin.solutions.circuits import Singularities
 
-__all__ = ["plot_circuits", "circuits_figure", "save_circuits_figure"]
+__all__ = ["LIM_STYLE", "plot_circuits", "circuits_figure", "save_circuits_figure"]
+
+#: marker of a LIM configuration (a link locked) that is none of IM, DKP-input, DKP-output
+LIM_STYLE = dict(colour="#ff7f0e", marker="^")
+#: the type that picks a configuration's marker, first match in this order
+_MARKER_ORDER = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
 
 _COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
 
@@ -87,20 +94,22 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
                 ax.plot(xx, yy, color=colour, lw=1.6, label=f"circuit {c.index}" if (k == 0 and j == 0) else None)
     seen = set()
     for n, s in enumerate(result.singularities, 1):
-        kind = next((t for t in ("IM", "DKP-input", "DKP-output") if t in s.types),
-                    s.kinds[0] if s.kinds else "IM")
-        style = STYLE.get(kind, STYLE["IM"])
+        kind = next((t for t in _MARKER_ORDER if t in s.types), s.kinds[0] if s.kinds else Kind.IM)
+        style = LIM_STYLE if kind == Kind.LIM else STYLE.get(kind, STYLE[Kind.IM])
         y = s.output if has_output else s.arclength
+        label = str(kind) if kind != Kind.LIM else f"LIM ({', '.join(s.locked_links)} locked)"
         ax.plot([s.input], [y], linestyle="none", marker=style["marker"], ms=8, mfc=style["colour"],
-                mec="black", zorder=5, label=kind if kind not in seen else None)
-        seen.add(kind)
+                mec="black", zorder=5, label=label if label not in seen else None, gid=f"singularity:{kind}")
+        seen.add(label)
         if annotate:
             ax.annotate(str(n), (s.input, y), textcoords="offset points", xytext=(6, 6), fontsize=9, zorder=6)
     unit_in = ("deg" if deg else "rad") if angle_in else "model length"
-    ax.set_xlabel(f"input {result.input} [{unit_in}]")
+    # the angle convention of every command: relative to the model's configuration, wrapped
+    relative = ", from the model's configuration, in " + ("(−180°, 180°]" if deg else "(−π, π]")
+    ax.set_xlabel(f"input {result.input} [{unit_in}]" + (relative if angle_in else ""))
     if has_output:
         unit_out = ("deg" if deg else "rad") if angle_out else "model length"
-        ax.set_ylabel(f"output {result.output} [{unit_out}]")
+        ax.set_ylabel(f"output {result.output} [{unit_out}]" + (relative if angle_out else ""))
     else:
         ax.set_ylabel("arclength along the branch (model length scales)")
     ax.set_title(f"{result.mechanism.name}: {len(result.circuits)} circuit(s), "
@@ -111,9 +120,9 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
 
 
 def _output_kind(result: Singularities) -> str | None:
-    from symkin.solutions.circuits import _output_coordinate
+    from symkin.solutions.frame_coordinates import output_coordinate
 
-    c = _output_coordinate(result.mechanism)
+    c = output_coordinate(result.mechanism)
     return None if c is None else c.kind
 
 

@@ -27,6 +27,7 @@ from pathlib import Path as FilePath
 
 import numpy as np
 
+from symkin.kinds import Kind
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.plots.mechanism import draw_mechanism
@@ -45,9 +46,9 @@ INDICATORS = {
 #: colour maps: sequential for |IM|, diverging (zero = white) for the signed DKP functions
 CMAPS = {"log": "viridis", "signed": "PuOr_r"}
 #: line style per curve kind (colours from the path plots, :data:`symkin.plots.paths.STYLE`)
-LINESTYLES = {"DKP-input": "-", "DKP-output": (0, (5, 2)), "IM": ":"}
+LINESTYLES = {Kind.DKP_INPUT: "-", Kind.DKP_OUTPUT: (0, (5, 2)), Kind.IM: ":"}
 #: marker per isolated point kind: the path plots' (IM, DKP) and a cusp of a traced curve
-POINT_STYLES = {**STYLE, "cusp": dict(colour="#ff7f0e", marker="^")}
+POINT_STYLES = {**STYLE, Kind.CUSP: dict(colour="#ff7f0e", marker="^")}
 BOUNDARY_COLOUR = "black"
 
 
@@ -175,7 +176,7 @@ def plot_curves(wmap: WorkspaceMap, mode=0, ax=None, *, points: bool = True, hal
         for p in wmap.points:
             if p.mode != m.id:
                 continue
-            st = POINT_STYLES.get(p.kind, STYLE["IM"])
+            st = POINT_STYLES.get(p.kind, STYLE[Kind.IM])
             ax.plot(*p.at, marker=st["marker"], markersize=7, markerfacecolor=st["colour"], markeredgecolor="white",
                     linestyle="none", zorder=5, gid=f"point:{p.kind}:{m.id}",
                     label=f"{p.kind} point" if f"p{p.kind}" not in seen else "_nolegend_")
@@ -329,9 +330,9 @@ def _legend_handles(wmap: WorkspaceMap):
 
     kinds = [k for k in KINDS if any(c.kind == k for c in wmap.curves)]
     handles = [Line2D([], [], color=STYLE[k]["colour"], linestyle=LINESTYLES[k], linewidth=1.8,
-                      label={"DKP-input": "DKP-input (type-2) curve", "DKP-output": "DKP-output (type-1) curve",
-                             "IM": "IM curve"}[k]) for k in kinds]
-    for k in (*KINDS, "cusp"):
+                      label={Kind.DKP_INPUT: "DKP-input (type-2) curve", Kind.DKP_OUTPUT: "DKP-output (type-1) curve",
+                             Kind.IM: "IM curve"}[k]) for k in kinds]
+    for k in (*KINDS, Kind.CUSP):
         if any(p.kind == k for p in wmap.points):
             handles.append(Line2D([], [], marker=POINT_STYLES[k]["marker"], color=POINT_STYLES[k]["colour"],
                                   linestyle="none", label=f"{k} point"))

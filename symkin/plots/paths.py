@@ -70,7 +70,8 @@ def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray
     steps = np.diff(inputs)
     monotone = bool(np.all(steps > 0) or np.all(steps < 0)) if steps.size else True
     if x == "input" or (x == "auto" and monotone):
-        return inputs, "input", f"input {path.drive} [{name}]"
+        along = ", along the path from the model's configuration" if path.kind == "angle" else ""
+        return inputs, "input", f"input {path.drive} [{name}]{along}"
     s = np.array([p.s for p in path.points], float)
     why = "the input turns back, so the axis is the" if x == "auto" else ""
     return s, "arclength", (f"{why} arclength s along the path (in model length scales)" if why else
@@ -292,7 +293,8 @@ def event_label(path: Path, number: int, event, unit: str = "deg", lines: bool =
     """``"1. IM at 210.9225° (absolute 165.9225°)"``: an event's number, kind, input and absolute angle.
 
     ``number`` counts the singular events from 1, as the text report and the JSON
-    ``events`` do; the absolute angle (planar rotations) is shown where there is one.
+    ``events`` do; the input is the value along the path (the plot's abscissa), the absolute
+    angle (planar rotations, in [0°, 360°), as every command gives it) is shown where there is one.
     ``lines=True`` breaks it over three short lines for a marker's annotation.
     """
     conv, uname = _unit_factor(path, unit)
@@ -349,7 +351,7 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
     >>> from symkin.plots.paths import plot_event_configurations
     >>> p = trace(symkin.catalogue.get("fourbar_appendix"), stop=360, unit="deg")
     >>> [ax.get_title().splitlines()[0] for ax in plot_event_configurations(p)]
-    ['1. DKP-output at 137.5622° (absolute -144.9667°)', '2. DKP-output at 306.0810° (absolute 23.5521°)']
+    ['1. DKP-output at 137.5622° (absolute 215.0333°)', '2. DKP-output at 306.0810° (absolute 23.5521°)']
     """
     _check(path)
     _unit_factor(path, unit)

@@ -27,13 +27,23 @@ import sympy as sp
 from sympy.polys.domains import RR
 from sympy.polys.rings import ring
 
+from symkin.curves.corrector import gauss_newton
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair
-from symkin.solutions.system import PolynomialSystem, _Builder, closure_system, recover_jacobian
+from symkin.solutions.system import PolynomialSystem, SystemBuilder, closure_system, recover_jacobian
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["DkpSystem", "block_triangular", "dkp_system", "polish", "rate_row"]
+__all__ = ["DkpSystem", "block_triangular", "determinant", "dkp_system", "polish", "rate_row"]
+
+#: :func:`polish` aims at this largest residual of a square system in dimensionless coordinates (the
+#: rounding level of O(1) polynomials: a real root is polished to the last digits before it is compared)
+POLISH_TARGET = 1e-15
+#: :func:`polish` stops when a step falls below this relative to ``max(1, ‖v‖)`` (rounding of ``v``)
+POLISH_STEP = 1e-16
+#: largest residual (max-norm, times ``max(1, scale²)``) of a curve point projected by :func:`constant_on_curve`
+#: (one decade below :attr:`Tolerances.newton`: the factor is compared to relative 1e-9 there)
+CURVE_POINT = 1e-13
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,7 +89,7 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
     fixed line: the constant unit row.  A slide on a moving line is not supported (its rate
     involves ``1/|x_C − x_A|``, not constant in general).
     """
-    b = _Builder(mech, tol)
+    b = SystemBuilder(mech, tol)
     names = mech.node_names
     dots = {n: sp.Matrix(sp.symbols(f"w_{n}_0:{mech.dim}")) for n in mech.free_nodes}
 
@@ -114,11 +124,31 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
     return [sp.expand(form.coeff(w)) for n in mech.free_nodes for w in dots[n]]
 
 
-def _determinant(rows: list[list], gens: list, domain=RR):
+def determinant(rows: list[list], gens: list, domain=RR):
     """``det`` of a square matrix of polynomials by Laplace expansion over column subsets (memoised).
 
     The rows of ``∂R/∂v`` are sparse (a bar involves at most two nodes): the expansion is
-    ``2ⁿ`` sub-determinants at most, in sympy's sparse polynomial ring over floats.
+    ``2ⁿ`` sub-determinants at most, in sympy's sparse polynomial ring over ``domain``.
+
+    Parameters
+    ----------
+    rows : list of list
+        The square matrix, row by row: sympy expressions (or numbers) polynomial in ``gens``.
+    gens : list of sympy.Symbol
+        The polynomial ring's generators.
+    domain : sympy domain
+        ``RR`` (floats, the default) or ``QQ`` (exact rationals, :mod:`symkin.solutions.exact`).
+
+    Returns
+    -------
+    sympy.Expr
+        The determinant, expanded, in ``gens``.
+
+    Examples
+    --------
+    >>> x, y = sp.symbols("x y")
+    >>> determinant([[x, 1], [y, x]], [x, y])
+    1.0*x**2 - 1.0*y
     """
     n = len(rows)
     r, *_ = ring([str(g) for g in gens], domain)
@@ -180,7 +210,7 @@ def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | No
     factors = []
     for block in block_triangular(jac + [row_v]):
         rows = [[(jac + [row_v])[i][j] for j in block[1]] for i in block[0]]
-        det = sp.expand(_determinant(rows, v))
+        det = sp.expand(determinant(rows, v))
         if det == 0:
             raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is identically zero on the "
                               "configuration space (a structurally singular velocity equation)")
@@ -227,15 +257,13 @@ def constant_on_curve(factor, eqs: list, v: list, v0: np.ndarray, scale: float =
 
     r = sp.lambdify([v], list(eqs), "numpy")
     jac = sp.lambdify([v], sp.Matrix(eqs).jacobian(v), "numpy")
-    closes = 1e-13 * max(1.0, scale * scale)
+    closes = CURVE_POINT * max(1.0, scale * scale)
 
     def project(y):
-        for _ in range(40):
-            res = np.array(r(y), float).ravel()
-            if float(np.max(np.abs(res))) <= closes:
-                return y
-            y = y + np.linalg.lstsq(np.array(jac(y), float).reshape(len(eqs), len(v)), -res, rcond=None)[0]
-        return None
+        c = gauss_newton(lambda z: (np.array(r(z), float).ravel(),
+                                    np.array(jac(z), float).reshape(len(eqs), len(v))),
+                         y, tol=closes, floor=closes, max_iterations=40, norm="max")
+        return c.z if c.converged else None
 
     base = project(np.asarray(v0, float).copy())
     if base is None:
@@ -286,22 +314,24 @@ def block_triangular(rows: list[list]) -> list[tuple[list[int], list[int]]]:
 
 
 def polish(equations: tuple, unknowns: tuple, v: np.ndarray, max_iterations: int = 40) -> tuple[np.ndarray, float]:
-    """Gauss–Newton on the square system ``equations = 0`` from ``v``; returns the point and its largest residual."""
+    """Gauss–Newton on the square system ``equations = 0`` from ``v``; returns the point and its largest residual.
+
+    The one corrector, :func:`symkin.curves.corrector.gauss_newton`, in the max-norm, to
+    :data:`POLISH_TARGET` or a step below :data:`POLISH_STEP` (the best point seen when it does
+    not get there), without stopping early at a floor.
+
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> p, res = polish((x * x + y * y - 1, x - y), (x, y), np.array([1.0, 0.5]))
+    >>> [round(float(c), 12) for c in p], res < 1e-15
+    ([0.707106781187, 0.707106781187], True)
+    """
     f, j = _compiled(equations, unknowns)
-    best_v, best = v, float(np.max(np.abs(f(v))))
-    for _ in range(max_iterations):
-        r = f(v)
-        res = float(np.max(np.abs(r)))
-        if res < best:
-            best_v, best = v, res
-        if res <= 1e-15:
-            break
-        step = np.linalg.lstsq(j(v), -r, rcond=None)[0]
-        if not np.all(np.isfinite(step)) or float(np.max(np.abs(step))) <= 1e-16:
-            break
-        v = v + step
-    res = float(np.max(np.abs(f(v))))
-    return (v, res) if res <= best else (best_v, best)
+    # floor=0: no acceptance at a floor; at a singular root (an IM point, where the residual is the
+    # square of the distance) it goes on converging linearly to the target or the last step, as polished roots must
+    c = gauss_newton(lambda z: (f(z), j(z)), np.asarray(v, float), tol=POLISH_TARGET, floor=0.0,
+                     max_iterations=max_iterations, step_tol=POLISH_STEP, norm="max")
+    return c.z, c.residual
 
 
 def _compiled(equations: tuple, unknowns: tuple):

@@ -99,7 +99,7 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
     """The exact square DKP systems of a planar revolute mechanism for the rotation input ``c`` (module docstring)."""
     from sympy.polys.domains import QQ
 
-    from symkin.solutions.dkp_system import _determinant, block_triangular, constant_on_curve
+    from symkin.solutions.dkp_system import block_triangular, determinant, constant_on_curve
 
     p = c.parameter
     if mech.dim != 2 or mech.sliders or p.kind != "rotation":
@@ -157,7 +157,7 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
     rows = sp.Matrix(eqs).jacobian(left).tolist() + [rate]
     factors = []
     for block_rows, block_cols in block_triangular(rows):
-        det = sp.expand(_determinant([[rows[r][k] for k in block_cols] for r in block_rows], left, domain=QQ))
+        det = sp.expand(determinant([[rows[r][k] for k in block_cols] for r in block_rows], left, domain=QQ))
         if det == 0:
             raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is identically zero")
         if det.free_symbols:

@@ -42,6 +42,7 @@ import sympy as sp
 
 from symkin.analysis.batch import evaluators_for
 from symkin.analysis.classification import Analysis, analyze as _analyze
+from symkin.curves.corrector import gauss_newton
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
@@ -53,6 +54,8 @@ __all__ = ["Solution", "Solutions", "solve_all"]
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
+#: Newton stops when a step is below this relative to ``max(1, ‖u‖)`` (the rounding level of ``u`` = O(1))
+NEWTON_STEP = 1e-15
 #: largest closure residual (relative) and prescribed-value error (rad, or relative) of a verified solution
 VERIFY = 1e-8
 
@@ -143,23 +146,13 @@ class Solutions:
 
 
 def _newton(f, jac, u: np.ndarray, max_iterations: int = 30) -> tuple[np.ndarray, float]:
-    """Least-squares Newton on the original equations; returns the point and its residual."""
-    best_u, best = u, float(np.max(np.abs(f(u)))) if u.size else 0.0
-    for _ in range(max_iterations):
-        r = np.asarray(f(u), float)
-        res = float(np.max(np.abs(r)))
-        if res < best:
-            best_u, best = u, res
-        if res <= NEWTON_TARGET:
-            break
-        step = np.linalg.lstsq(np.asarray(jac(u), float), -r, rcond=None)[0]
-        if not np.all(np.isfinite(step)):
-            break
-        u = u + step
-        if np.max(np.abs(step)) <= 1e-15:
-            break
-    r = float(np.max(np.abs(f(u))))
-    return (u, r) if r <= best else (best_u, best)
+    """Least-squares Gauss–Newton (:func:`symkin.curves.corrector.gauss_newton`, max-norm) on the original
+    equations from ``u``; returns the point (the best one seen when it does not converge) and its residual."""
+    if not u.size:
+        return u, 0.0
+    c = gauss_newton(lambda z: (f(z), jac(z)), u, tol=NEWTON_TARGET, max_iterations=max_iterations,
+                     step_tol=NEWTON_STEP, norm="max")
+    return c.z, c.residual
 
 
 class _Checks:

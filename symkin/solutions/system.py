@@ -47,7 +47,7 @@ from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair, parse_input_label
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["PolynomialSystem", "closure_system", "position_system", "prescribed_coordinates", "recover_jacobian"]
+__all__ = ["PolynomialSystem", "SystemBuilder", "closure_system", "position_system", "prescribed_coordinates", "recover_jacobian"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -143,7 +143,22 @@ def _inputs(mech):
         return ()
 
 
-class _Builder:
+class SystemBuilder:
+    """The dimensionless polynomial equations of a model, gathered one owner (link, slider, value) at a time.
+
+    Positions are ``u = (x − c) / L`` (``c`` the centroid of the model's nodes, ``L`` its length
+    scale): symbols for the free nodes (:meth:`node`), numbers for the fixed ones, so that the
+    equations and every row built from them (:func:`symkin.solutions.dkp_system.rate_row`) do not
+    depend on the unit of length.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model, at its configuration (the fixed nodes' positions are taken from it).
+    tol : Tolerances
+        ``rank`` decides the linear eliminations, ``geometry`` the consistency checks.
+    """
+
     def __init__(self, mech: Mechanism, tol: Tolerances):
         self.mech = mech
         self.tol = tol
@@ -194,7 +209,7 @@ def _frame(points: list[np.ndarray], geometry: float) -> tuple[list[int], int]:
     return [i, j, max(off)[1]], 2
 
 
-def _bodies(b: _Builder) -> None:
+def _bodies(b: SystemBuilder) -> None:
     mech, dim = b.mech, b.dim
     fixed = set(mech.fixed)
     geometry = b.tol.geometry
@@ -240,7 +255,7 @@ def _normals(direction: np.ndarray) -> list[np.ndarray]:
     return [q[:, 1], q[:, 2]]
 
 
-def _sliders(b: _Builder, skip: set) -> None:
+def _sliders(b: SystemBuilder, skip: set) -> None:
     for s in b.mech.sliders:
         if s.id in skip:
             continue
@@ -267,7 +282,7 @@ def _rotate(v, angle: float):
     return sp.Matrix([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
-def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
+def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> None:
     mech, dim = b.mech, b.dim
     names = mech.node_names
     for c, value in prescribed:
@@ -340,7 +355,7 @@ def _values(b: _Builder, prescribed, skip: set, reduce: bool = False) -> None:
             raise SymkinError(f"{c.label}: a {p.kind} value cannot be prescribed to solve the position problem")
 
 
-def _legs(b: _Builder, prescribed) -> list[tuple]:
+def _legs(b: SystemBuilder, prescribed) -> list[tuple]:
     """Prismatic legs to reduce (see the module docstring): (slider, bar, D, A, C, ρ, l, label)."""
     mech = b.mech
     fixed = set(mech.fixed)
@@ -393,7 +408,7 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     """
     tol = Tolerances.of(tol)
     prescribed = prescribed_coordinates(mech, values, unit)
-    b = _Builder(mech, tol)
+    b = SystemBuilder(mech, tol)
     _bodies(b)
     _sliders(b, set())
     _values(b, prescribed, set())
@@ -556,7 +571,7 @@ def closure_system(mech: Mechanism, tol: Tolerances = DEFAULT) -> PolynomialSyst
     (7, 8, 5, 6)
     """
     tol = Tolerances.of(tol)
-    b = _Builder(mech, tol)
+    b = SystemBuilder(mech, tol)
     _bodies(b)
     _sliders(b, set())
     original = list(b.equations)

@@ -51,6 +51,7 @@ import time
 
 import numpy as np
 
+from symkin.kinds import Kind
 from symkin.errors import SymkinError
 from symkin.tolerances import DEFAULT
 from symkin.symbolic.factors import FACTOR_TERMS
@@ -140,7 +141,7 @@ def im_condition(sm, time_limit: float | None = None) -> Condition:
     condition is ``det(J Jᵀ)`` of the reduced rows, one Gram determinant; its value is then
     the coefficient of the reduced equation's matrix, not of ``G``'s (the note says so).
     """
-    return with_time_limit("IM", time_limit, lambda: _im_condition(sm))
+    return with_time_limit(Kind.IM, time_limit, lambda: _im_condition(sm))
 
 
 def _im_condition(sm) -> Condition:
@@ -159,9 +160,9 @@ def _im_condition(sm) -> Condition:
                     f"({len(rows) - len(reduced)} dropped); zero exactly where L > F = {f}, but its value is "
                     f"not G's coefficient when rows were dropped")
             if math.comb(n, r) <= DIRECT_MINORS:
-                return sum_of_squares_condition(sm, "IM", (), reduced, r, note, t0)
-            return gram_condition(sm, "IM", (), reduced, note, t0)
-    return sum_of_squares_condition(sm, "IM", (), list(sm.rows), r, note, t0)
+                return sum_of_squares_condition(sm, Kind.IM, (), reduced, r, note, t0)
+            return gram_condition(sm, Kind.IM, (), reduced, note, t0)
+    return sum_of_squares_condition(sm, Kind.IM, (), list(sm.rows), r, note, t0)
 
 
 def dkp_condition(sm, which: str = "input", time_limit: float | None = None) -> Condition:
@@ -194,7 +195,7 @@ def _dkp_condition(sm, which: str) -> Condition:
     k = len(prow)
     size = r + min(f, k)
     rows = kept + prow
-    kind = "DKP-input" if which == "input" else "DKP-output"
+    kind = Kind.DKP_INPUT if which == "input" else Kind.DKP_OUTPUT
     locked = "inputs" if which == "input" else "outputs"
     if k <= f:
         note = (f"zero where some motion is left with the {locked} locked: DKP-{which} configurations, "

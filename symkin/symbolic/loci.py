@@ -68,6 +68,8 @@ import numpy as np
 import sympy as sp
 
 from symkin.errors import SymkinError
+from symkin.kinds import LOCUS_KINDS, Kind
+from symkin.kinds import latex as latex_name
 from symkin.model.labels import CoordinateLabel, parse_hold, parse_label
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
@@ -81,7 +83,7 @@ _LOCUS_LABELS = "a locus can be written in"
 __all__ = ["LociError", "LocusFactor", "Locus", "Loci", "implicit_loci", "closure_polynomials", "KINDS"]
 
 #: the kinds of loci, in the order derived
-KINDS = ("DKP-input", "DKP-output", "IM")
+KINDS = LOCUS_KINDS
 #: most IM minors whose common zeros are eliminated
 MAX_IM_MINORS = 200
 #: angle units of hold values, factor to radians
@@ -195,16 +197,14 @@ class Loci:
 
     def latex(self) -> str:
         """One LaTeX line per locus: ``\\mathrm{DKP}_{in}: (f_1)(f_2) = 0``."""
-        head = {"IM": r"\mathrm{IM}", "DKP-input": r"\mathrm{DKP}_{\mathrm{in}}",
-                "DKP-output": r"\mathrm{DKP}_{\mathrm{out}}"}
         out = []
         for locus in self.loci:
             if not locus.factors:
-                out.append(head[locus.kind] + (r":\; 0 = 0" if locus.everywhere else r":\; \text{no curve}"))
+                out.append(latex_name(locus.kind) + (r":\; 0 = 0" if locus.everywhere else r":\; \text{no curve}"))
                 continue
             body = " ".join(rf"\left({sp.latex(f.polynomial)}\right)" + (f"^{{{f.exponent}}}" if f.exponent != 1 else "")
                             for f in locus.factors)
-            out.append(head[locus.kind] + r":\; " + body + " = 0")
+            out.append(latex_name(locus.kind) + r":\; " + body + " = 0")
         return "\n".join(out)
 
 
@@ -895,7 +895,7 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
         t0 = time.perf_counter()
         try:
             with _limit(kind, time_limit) as limit:
-                if kind == "IM":
+                if kind == Kind.IM:
                     locus = _im_locus(sm, sys, subs, blocks, xs, loci, time_limit, limit, t0)
                 else:
                     locus = _dkp_locus(sm, sys, subs, blocks, xs, kind, time_limit, limit, t0)
@@ -982,18 +982,18 @@ def _one_real_point(f, xs) -> bool:
 
 def _im_locus(sm, sys, subs, blocks, xs, done: list, time_limit, limit, t0) -> Locus:
     dkp = {l.kind: l for l in done}
-    if "DKP-input" in dkp and "DKP-output" in dkp:
-        a = {sp.srepr(f.polynomial) for f in dkp["DKP-input"].factors}
-        shared = [f for f in dkp["DKP-output"].factors if sp.srepr(f.polynomial) in a]
+    if Kind.DKP_INPUT in dkp and Kind.DKP_OUTPUT in dkp:
+        a = {sp.srepr(f.polynomial) for f in dkp[Kind.DKP_INPUT].factors}
+        shared = [f for f in dkp[Kind.DKP_OUTPUT].factors if sp.srepr(f.polynomial) in a]
         curves = [f for f in shared if not _one_real_point(f.polynomial, xs)]
         if not curves:
             which = "share no factor" if not shared else "share only factors with one real point each"
-            return Locus("IM", (), (), time.perf_counter() - t0,
+            return Locus(Kind.IM, (), (), time.perf_counter() - t0,
                          f"no curve: the IM locus lies in the DKP-input and DKP-output loci, which {which} "
                          "(isolated IM points are not listed)")
     cond = sm.im_condition(time_limit=time_limit)
     if cond.identically_zero:
-        return Locus("IM", (), (), time.perf_counter() - t0, "IM at every configuration", True)
+        return Locus(Kind.IM, (), (), time.perf_counter() - t0, "IM at every configuration", True)
     if not cond.minors:
         raise LociError("the IM condition was derived as one Gram determinant (no minors): its locus "
                         "is not eliminated here")
@@ -1010,8 +1010,8 @@ def _im_locus(sm, sys, subs, blocks, xs, done: list, time_limit, limit, t0) -> L
         norms.append(_eliminate(combo, blocks, limit) if combo != 0 else sp.Integer(0))
     common = sp.gcd(norms[0], norms[1])
     if common == 0:
-        return Locus("IM", (), (), time.perf_counter() - t0, "IM on the whole slice", True)
+        return Locus(Kind.IM, (), (), time.perf_counter() - t0, "IM on the whole slice", True)
     geometric, trivial = _factors(common, xs, sys.mech, sys.x0)
-    return Locus("IM", tuple(geometric), tuple(trivial), time.perf_counter() - t0,
+    return Locus(Kind.IM, tuple(geometric), tuple(trivial), time.perf_counter() - t0,
                  "curves on which every maximal minor of the velocity equation vanishes on some branch "
                  "(gcd of the norms of two random combinations of the minors; isolated IM points are not listed)")

@@ -8,6 +8,8 @@ and for sums of squares the distinct maximal minors.  They are built by
 :func:`~symkin.symbolic.conditions.dkp_condition`.
 """
 from __future__ import annotations
+from symkin.kinds import Kind
+from symkin.kinds import latex as latex_name
 
 from dataclasses import dataclass, field
 
@@ -154,7 +156,7 @@ class Condition:
 
     # ---------------------------------------------------------------- rendering
     def _heading(self) -> str:
-        what = {"IM": "IM (L > F)", "DKP-input": "DKP-input", "DKP-output": "DKP-output"}[self.kind]
+        what = {Kind.IM: "IM (L > F)", Kind.DKP_INPUT: Kind.DKP_INPUT, Kind.DKP_OUTPUT: Kind.DKP_OUTPUT}[self.kind]
         if self.labels:
             what += f" [{', '.join(self.labels)}]"
         return what
@@ -187,8 +189,7 @@ class Condition:
 
     def latex(self) -> str:
         """LaTeX of the condition: ``readable = 0`` and the trivial factors separated."""
-        head = {"IM": r"\mathrm{IM}", "DKP-input": r"\mathrm{DKP}_{\mathrm{in}}",
-                "DKP-output": r"\mathrm{DKP}_{\mathrm{out}}"}[self.kind]
+        head = latex_name(self.kind)
         if self.identically_zero:
             return head + r":\; 0 = 0"
         if self.never:

@@ -4,7 +4,8 @@
 mode over the grid, indicators from the one analysis core), ``maps`` (the frozen
 :class:`~symkin.workspace.maps.WorkspaceMap`, JSON / npz) and ``loci`` (refinement to
 exact curves, the driver; its parts: ``locus_problems``, ``refine_data``, ``locate``,
-``im_points``, ``reseed``, ``cusps``, ``tracing``, ``singular_points``; ``quadtree`` subdivides
+``im_points``, ``reseed``, ``cusps``, ``locus_events``, ``tracing`` (on the one tracer,
+:func:`symkin.curves.tracer.trace_curve`), ``singular_points``; ``quadtree`` subdivides
 cells in batches).
 
 LIM points of a map (paper §III-B.3, §IV-C) — the rule, **not implemented yet**: a link is in

@@ -7,13 +7,14 @@ from __future__ import annotations
 import numpy as np
 
 from symkin.errors import NotConvergedError
-from symkin.paths.continuation import CurvePoint
-from symkin.paths.events import TestFunction, locate_sign_change
+from symkin.curves.events import EventType as TestFunction
+from symkin.curves.locate import CurveEvent, locate_sign_change
+from symkin.curves.stepper import CurvePoint
 from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace.locus_problems import CurveFunction, LocusProblems
 
-__all__ = ["axis_velocity", "relative_axis_speed", "locate_cusp"]
+__all__ = ["axis_velocity", "relative_axis_speed", "locate_cusp", "locate_cusp_event"]
 
 
 def axis_velocity(pb: LocusProblems, y: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -48,6 +49,13 @@ def locate_cusp(pb: LocusProblems, problem: CurveFunction, a: CurvePoint, b: Cur
     has ~1e-13, a curve that merely turns sharply within a step has a speed of order one).
     Returns the configuration ``y`` (dimensionless) or None.
     """
+    ev = locate_cusp_event(pb, problem, a, b, v_a, tol)
+    return None if ev is None else np.asarray(ev.y, float)
+
+
+def locate_cusp_event(pb: LocusProblems, problem: CurveFunction, a: CurvePoint, b: CurvePoint, v_a: np.ndarray,
+                      tol: Tolerances = DEFAULT) -> CurveEvent | None:
+    """:func:`locate_cusp` as the located curve event (``y``, tangent, arclength), or None."""
     v_a = np.asarray(v_a, float)
     u = v_a / np.linalg.norm(v_a)
     test = TestFunction(Kind.CUSP, lambda yy, tt: float(axis_velocity(pb, yy, tt) @ u))
@@ -56,6 +64,6 @@ def locate_cusp(pb: LocusProblems, problem: CurveFunction, a: CurvePoint, b: Cur
     except (NotConvergedError, ValueError):
         return None
     if relative_axis_speed(pb, ev.y, ev.t) <= tol.event_threshold:
-        return np.asarray(ev.y, float)
+        return ev
     return None
 

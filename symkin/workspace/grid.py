@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from symkin.kinds import Kind
 from symkin.errors import SymkinError
 from symkin.tolerances import Tolerances
 from symkin.workspace.quadtree import dips
@@ -51,7 +52,7 @@ __all__ = ["Axis", "parse_axis", "make_axes", "GRID_ARRAYS", "ModeArrays", "Mode
 #: point of the mode and refuses a jump to a configuration farther away than one step.
 JUMP = 1.0
 #: bits of :attr:`ModeGrid.types`
-TYPE_BITS = {"IM": 1, "DKP-input": 2, "DKP-output": 4}
+TYPE_BITS = {Kind.IM: 1, Kind.DKP_INPUT: 2, Kind.DKP_OUTPUT: 4}
 #: sub-step counts tried after a rejected or failed full step
 _SUBSTEPS = (4,)
 

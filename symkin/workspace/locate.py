@@ -11,11 +11,18 @@ import numpy as np
 from scipy.optimize import brentq
 
 from symkin.errors import NotConvergedError
-from symkin.curves.corrector import gauss_newton
+from symkin.curves.corrector import gauss_newton, gauss_newton_batch, stacked_steps
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace.locus_problems import KINDS, LOCUS_NEWTON_TOL, POLISH_ITERATIONS, POLISH_STEP, LocusProblems
 
-__all__ = ["locate_crossing", "locate_fold", "locate_double_zero"]
+__all__ = ["locate_crossing", "locate_crossings", "locate_fold", "locate_double_zero", "CROSSING_STEPS",
+           "CROSSING_XTOL"]
+
+#: regula-falsi (Illinois) steps of the batched crossing locator, at most (each one batched square solve)
+CROSSING_STEPS = 40
+#: a bracket of the batched locator is done when its root estimate moves less than this (fraction of the
+#: grid edge; as the single locator's Brent tolerance: the extended system polishes it quadratically)
+CROSSING_XTOL = 1e-6
 
 
 # ---------------------------------------------------------------------- location
@@ -52,9 +59,82 @@ def locate_crossing(pb: LocusProblems, kind: str, a_a: np.ndarray, y_a: np.ndarr
         return pb.tests(y)[kind]
 
     # a coarse bracket is enough: the extended system polishes it quadratically
-    s = brentq(lambda s: ta if s == 0 else tb if s == 1 else t_of(s), 0.0, 1.0, xtol=1e-6)
+    s = brentq(lambda s: ta if s == 0 else tb if s == 1 else t_of(s), 0.0, 1.0, xtol=CROSSING_XTOL)
     y0 = cache.get(s, y_a if s <= 0.5 else y_b)
     return _polish(pb, kind, a_a, d, y0, s)
+
+
+def locate_crossings(pb: LocusProblems, kind: str, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray,
+                     y_b: np.ndarray) -> list[tuple[np.ndarray, float] | None]:
+    """:func:`locate_crossing` on N grid edges at once (rows of the arguments): ``(y, s)`` or None per edge.
+
+    Regula falsi (the Illinois variant) on ``T(solve(a_a + s·d))`` for every bracket at once:
+    each step is one batched solve of the square problem (:meth:`LocusProblems.solve_square_many`,
+    warm-started from the bracket's nearer end) and one batched evaluation of ``T``; a bracket
+    is done when its estimate moves less than :data:`CROSSING_XTOL`.  Then one batched
+    Gauss–Newton polishes all of them on the extended system (:meth:`LocusProblems.extended_many`),
+    accepted where one more step is below ``POLISH_STEP`` (as :func:`locate_crossing`).  None
+    where the square problem does not solve inside the bracket or the polish fails.
+    """
+    a_a, a_b = np.atleast_2d(np.asarray(a_a, float)), np.atleast_2d(np.asarray(a_b, float))
+    ylo, yhi = np.array(np.atleast_2d(y_a), float), np.array(np.atleast_2d(y_b), float)
+    n = len(a_a)
+    if n == 0:
+        return []
+    d = a_b - a_a
+    t = pb.tests_many(np.vstack([ylo, yhi]))[kind]
+    fa, fb = t[:n].copy(), t[n:].copy()
+    lo, hi = np.zeros(n), np.ones(n)
+    s, y = np.where(np.abs(fa) <= np.abs(fb), 0.0, 1.0), np.where((np.abs(fa) <= np.abs(fb))[:, None], ylo, yhi)
+    ok = np.isfinite(fa) & np.isfinite(fb) & (np.sign(fa) * np.sign(fb) <= 0)
+    active = ok & (fa != 0) & (fb != 0)
+    side, last = np.zeros(n), np.full(n, np.nan)
+    for _ in range(CROSSING_STEPS):
+        idx = np.nonzero(active)[0]
+        if idx.size == 0:
+            break
+        sn = np.clip((lo[idx] * fb[idx] - hi[idx] * fa[idx]) / (fb[idx] - fa[idx]), lo[idx], hi[idx])
+        start = np.where((sn - lo[idx] <= hi[idx] - sn)[:, None], ylo[idx], yhi[idx])
+        yy, conv = pb.solve_square_many(a_a[idx] + sn[:, None] * d[idx], start)
+        ft = np.full(idx.size, np.nan)
+        if np.any(conv):
+            ft[conv] = pb.tests_many(yy[conv])[kind]
+        bad = ~conv | ~np.isfinite(ft)
+        ok[idx[bad]] = active[idx[bad]] = False
+        i, sn, yy, ft = idx[~bad], sn[~bad], yy[~bad], ft[~bad]
+        s[i], y[i] = sn, yy
+        low = np.sign(ft) == np.sign(fa[i])
+        for sel, cur, other, sgn in ((low, (lo, fa, ylo), fb, -1.0), (~low, (hi, fb, yhi), fa, 1.0)):
+            j = i[sel]
+            cur[0][j], cur[1][j], cur[2][j] = sn[sel], ft[sel], yy[sel]
+            again = side[j] == sgn
+            other[j[again]] *= 0.5  # Illinois: the end kept twice in a row has its value halved
+            side[j] = sgn
+        done = (np.abs(sn - last[i]) < CROSSING_XTOL) | (ft == 0)
+        last[i] = sn
+        active[i[done]] = False
+    idx = np.nonzero(ok)[0]
+    out: list = [None] * n
+    if idx.size == 0:
+        return out
+
+    def fun(z, rows):
+        return pb.extended_many(kind, z, a_a[idx[rows]], d[idx[rows]])
+
+    res = gauss_newton_batch(fun, np.hstack([y[idx], s[idx, None]]), tol=LOCUS_NEWTON_TOL,
+                             max_iterations=POLISH_ITERATIONS, norm="2")
+    good = np.nonzero(res.converged)[0]
+    if good.size:
+        z = res.z[good]
+        r, j = fun(z, good)
+        r = np.asarray(r, float).reshape(len(z), -1)
+        step = stacked_steps(np.asarray(j, float).reshape(len(z), r.shape[1], z.shape[1]), r)
+        size = np.linalg.norm(step, axis=1)
+        polished = size <= POLISH_STEP * np.maximum(1.0, np.linalg.norm(z[:, :-1], axis=1))
+        for k, zz, keep in zip(idx[good], z, polished):
+            if keep:
+                out[k] = (zz[:-1].copy(), float(zz[-1]))
+    return out
 
 
 def locate_fold(pb: LocusProblems, a_a: np.ndarray, y_a: np.ndarray, a_b: np.ndarray,

@@ -33,30 +33,35 @@ Contract with the map engine
 Algorithm
 ---------
 1. **Crossings** — every grid edge whose two assembled ends have opposite signs of a DKP
-   test function brackets a crossing.  The root is searched along the edge (Brent's
-   method on ``T`` of the square problem solved at interpolated axis values, warm-started
-   from the nearer end), then polished by Gauss–Newton on the extended system
-   ``(Φ/ℓ, holds, a(q)/axis_scale − (a₀ + s·d), T) = 0`` in ``(q/ℓ, s)``.
+   test function brackets a crossing.  The roots of all brackets of a kind are searched
+   together along their edges (:func:`locate_crossings`: regula falsi on ``T`` of the square
+   problem solved at interpolated axis values, warm-started from the nearer end, each step
+   one batched solve), then polished together by Gauss–Newton on the extended system
+   ``(Φ/ℓ, holds, a(q)/axis_scale − (a₀ + s·d), T) = 0`` in ``(q/ℓ, s)`` (one batch).
 2. **Folds** — an edge from an assembled to an unassembled end brackets the mode's
    workspace boundary (a fold of the square problem).  Bisection on "the square problem
    still solves from the assembled neighbour" narrows it; the same extended system with
    the DKP test function that vanishes there (``DKP-output`` in a workspace map,
    ``DKP-input`` in a joint-space map: the smaller of the two) polishes it.
-3. **Tracing** — from a located point, pseudo-arclength continuation
-   (:func:`symkin.paths.continuation.continue_curve`) of ``(Φ/ℓ, holds, T) = 0`` in
-   ``y = q/ℓ`` with both axis coordinates free, in both directions, until the curve
-   *closes* (passes its start again in the same direction), *leaves the box* (the last
-   point is solved onto the box edge), *meets the workspace boundary* of the mode (the
-   other DKP test function changes sign: located by
-   :func:`symkin.paths.events.locate_sign_change`), meets another locus at a branch point
-   (``det[H'; tᵀ]`` changes sign), nears an IM configuration (the relative IM indicator
-   ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points
-   (:func:`symkin.paths.events.locate_minimum`), below :attr:`Tolerances.near_branch`:
-   ``T`` is not defined at IM; the IM configuration is then refined as in step 4) or
-   cannot be continued.  On the way, a **cusp** of the curve's image in the axes (the axis
-   velocity ``∂A/∂y · t`` reverses between two points) is located along the curve and kept
-   when the relative axis speed there is at most :attr:`Tolerances.event_threshold`
-   (:func:`locate_cusp`); it neither stops nor splits the curve.  A crossing that lies on a curve already traced (configuration
+3. **Tracing** — from a located point, the one tracer (:func:`symkin.curves.tracer.trace_curve`,
+   pseudo-arclength continuation) follows ``(Φ/ℓ, holds, T) = 0`` in ``y = q/ℓ`` with both
+   axis coordinates free, in both directions; the map's events and stop rules are objects
+   (:mod:`symkin.workspace.locus_events`).  A curve ends where it *leaves the mode* (the
+   other DKP test function changes sign: located by sign change), meets another locus at a
+   branch point (``det[H'; tᵀ]`` changes sign), *leaves the box* (the curves' ``LeftBox``;
+   the last point is solved onto the box edge), nears an IM configuration (the relative IM
+   indicator ``sqrt(λ_{F+1}/tr G)`` at a point, or its located minimum between points,
+   below :attr:`Tolerances.near_branch`: ``T`` is not defined at IM; the IM configuration is
+   then refined as in step 4), runs into a family of configurations over one map point (its
+   image stays put over two steps: end ``"point"``) or cannot be continued; it is *closed*
+   when it crosses its start's normal plane near its start (the curves' ``Closed`` rule).
+   On the way, a **cusp** of the curve's image in the axes (the axis velocity ``∂A/∂y · t``
+   reverses between two points) is located along the curve and kept when the relative axis
+   speed there is at most :attr:`Tolerances.event_threshold` (:func:`locate_cusp`); it
+   neither stops nor splits the curve.  A "curve" whose whole image is one map point (a
+   leg of zero length turning about its pivot) is no curve: it is reported as one point
+   (classified by the core), seeds nothing, and the points recorded at that map point are
+   one (:func:`symkin.workspace.singular_points.one_per_family`).  A crossing that lies on a curve already traced (configuration
    within a few cell sizes of its polyline in ``q``) is not traced again.
 4. **IM points** — at each grid node whose IM indicator is below its eight neighbours
    (:func:`symkin.workspace.im_points.im_candidates`), the cells around it are subdivided
@@ -89,7 +94,8 @@ Where it lives: the problems on a locus (:mod:`~symkin.workspace.locus_problems`
 results (:mod:`~symkin.workspace.refine_data`), locating crossings, folds and double zeros
 (:mod:`~symkin.workspace.locate`), IM points (:mod:`~symkin.workspace.im_points`), re-solving a
 grid configuration from the seed (:mod:`~symkin.workspace.reseed`), cusps
-(:mod:`~symkin.workspace.cusps`), tracing (:mod:`~symkin.workspace.tracing`), classifying and
+(:mod:`~symkin.workspace.cusps`), the events and stop rules of a traced locus
+(:mod:`~symkin.workspace.locus_events`), tracing (:mod:`~symkin.workspace.tracing`), classifying and
 recording points (:mod:`~symkin.workspace.singular_points`); this module is the driver.
 
 Accuracy: every located and traced point satisfies ``‖(Φ/ℓ, holds, T)‖ ≤ 1e-12``
@@ -104,17 +110,18 @@ from typing import Any
 import numpy as np
 
 from symkin.errors import NotConvergedError
-from symkin.paths.continuation import Settings
+from symkin.curves.stepper import Settings
 from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 from symkin.workspace.cusps import locate_cusp
 from symkin.workspace.im_points import im_candidates, locate_im_many
-from symkin.workspace.locate import locate_crossing, locate_double_zero, locate_fold
+from symkin.workspace.locate import locate_crossing, locate_crossings, locate_double_zero, locate_fold
 from symkin.workspace.locus_problems import KINDS, OTHER_KIND, LocusProblems, LocusSystem
 from symkin.workspace.refine_data import Curve, GridData, RefineStats, SingularPoint
 from symkin.workspace.reseed import resolve_from_seed
-from symkin.workspace.singular_points import add_point
+from symkin.workspace.singular_points import add_point, one_per_family
+from symkin.workspace.locus_events import END_POINT
 from symkin.workspace.tracing import polyline_distance, trace_double_zero, trace_locus
 
 __all__ = ["LocusSystem", "GridData", "Curve", "SingularPoint", "RefineStats", "refine",
@@ -163,6 +170,36 @@ def _brackets(grid: GridData):
             pa, pb_ = (j, i), (j + dj, i + di)
             folds.append((pa, pb_) if asm[pa] else (pb_, pa))
     return signs, folds
+
+
+def _crossings(pb: LocusProblems, grid: GridData, signs: list, dim_axes, stats: RefineStats) -> list:
+    """The sign changes ``signs`` located in batches, one per kind (:func:`locate_crossings`).
+
+    Per bracket: ``False`` where a grid end has no configuration (skipped), None where the
+    location failed, else ``(y, s)``.  The evaluations count as locating.
+    """
+    out: list = [False] * len(signs)
+    before = pb.counter.n
+    for kind in KINDS:
+        rows, ends = [], []
+        for k, (kd, pa, pb_) in enumerate(signs):
+            qa, qb = grid.config(*pa), grid.config(*pb_)
+            if kd == kind and qa is not None and qb is not None:
+                rows.append(k)
+                ends.append((dim_axes(*pa), qa / pb.scale, dim_axes(*pb_), qb / pb.scale))
+        if rows:
+            found = locate_crossings(pb, kind, *(np.array([e[i] for e in ends]) for i in range(4)))
+            for k, f in zip(rows, found):
+                out[k] = f
+    stats.locate_evaluations += pb.counter.n - before
+    return out
+
+
+def _found(found) -> np.ndarray:
+    """The configuration of a crossing located in a batch (raises NotConvergedError where it failed)."""
+    if found is None:
+        raise NotConvergedError("crossing not located")
+    return found[0]
 
 
 def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAULT, box=None,
@@ -227,8 +264,12 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     points: list[SingularPoint] = []
     dup_radius = 1.5 * cell
 
+    point_images: list = []  # (kind, [y]): "curves" whose image is one point (reported as a point)
+    families: list = []  # their axis points: one singular point each
+
     def on_traced(kind, y, radius):
-        return any(k == kind and polyline_distance(y, ys, c) <= radius for k, ys, c, _ in traced)
+        return (any(k == kind and polyline_distance(y, ys, c) <= radius for k, ys, c, _ in traced)
+                or any(k == kind and polyline_distance(y, ys, False) <= radius for k, ys in point_images))
 
     def near_traced(kinds, a):
         """Pre-check on the grid: the bracket's axis point within ``dup_radius`` of a traced curve."""
@@ -240,6 +281,13 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
     def take(kind, y, tracer=None):
         before = pb.counter.n
         ys, closed, ends, end_ys, meets, cusps = (tracer or trace_locus)(pb, kind, y, box_d, settings, tol, boundary)
+        if ends == (END_POINT,):
+            # a family of configurations over one map point: one singular point, no curve, no seeds
+            stats.trace_evaluations += pb.counter.n - before
+            point_images.append((kind, ys))
+            families.append(pb.axes(ys[0]) * scale)
+            add_point(points, pb, sys_, ys[0], mode, scale, tol)
+            return
         seeds.extend(meets)
         end_ys = end_ys + meets
         stats.trace_evaluations += pb.counter.n - before
@@ -282,14 +330,11 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             return
         take(kind, y)
 
-    for kind, pa, pb_ in signs:
-        qa, qb = grid.config(*pa), grid.config(*pb_)
-        if qa is None or qb is None:
+    located = _crossings(pb, grid, signs, dim_axes, stats)  # every sign change located at once, per kind
+    for (kind, pa, pb_), found in zip(signs, located):
+        if found is False:
             continue
-        ya, yb = qa / pb.scale, qb / pb.scale
-        locate_and_take((kind,), pa, pb_,
-                        lambda: (kind, locate_crossing(pb, kind, dim_axes(*pa), ya, dim_axes(*pb_), yb)[0]),
-                        (NotConvergedError, ValueError))
+        locate_and_take((kind,), pa, pb_, lambda found=found, kind=kind: (kind, _found(found)), NotConvergedError)
     for pa, pb_ in folds:
         qa = grid.config(*pa)
         if qa is None:
@@ -390,4 +435,4 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
         subdivision = {d: sub for (d, _), sub in zip(ready, subs)}
         for d in found_dips:
             refine_dip(kind, *d, todo.get(d), subdivision.get(d))
-    return curves, points, stats
+    return curves, one_per_family(points, families, scale, tol), stats

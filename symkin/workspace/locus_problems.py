@@ -297,6 +297,13 @@ class LocusProblems:
         self.counter.n += len(a)
         return {Kind.DKP_INPUT: a[:, 0], Kind.DKP_OUTPUT: b[:, 0], "im": c[:, 0]}
 
+    def extended_many(self, kind: str, z: np.ndarray, a0: np.ndarray, d: np.ndarray) -> list[np.ndarray]:
+        """The extended system of :meth:`extended` and its Jacobian at N points ``z = (y, s)`` (N, nf + 1),
+        lines ``a0 + s·d`` (N, 2) each: ``[(N, m), (N, m, nf + 1)]``, one mapped call per block."""
+        z = np.atleast_2d(np.asarray(z, float))
+        self.counter.n += len(z)
+        return self._extended[kind].many(z, a0, d)
+
     def solve_square_many(self, targets: np.ndarray, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`solve_square` at N dimensionless axis values (rows of ``targets``) from the rows of ``y0``.
 

@@ -41,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from symkin.kinds import LOCUS_KINDS
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.tolerances import Tolerances
@@ -51,7 +52,7 @@ from symkin.workspace.system import map_system
 __all__ = ["MapCurve", "MapPoint", "ModeMap", "WorkspaceMap", "workspace_map", "load_map", "KINDS"]
 
 #: kinds of curves and points, in the order of ``counts``
-KINDS = ("DKP-input", "DKP-output", "IM")
+KINDS = LOCUS_KINDS
 
 
 @dataclass(frozen=True, eq=False)

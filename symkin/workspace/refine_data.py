@@ -61,7 +61,9 @@ class Curve:
     ``points`` (N, 2) in axis values, ordered along the curve (a closed curve's last point
     joins its first, which is not repeated); ``configurations`` (N, nf) the free
     coordinates there; ``ends`` why each end stopped (``"closed"``, ``"box"``,
-    ``"boundary"``, ``"branch"``, ``"IM"``, ``"stalled"``, ``"steps"``).
+    ``"boundary"``, ``"branch"``, ``"IM"``, ``"point"`` — it ran into a family of configurations
+    over one map point —, ``"left"`` — a double-zero curve left the double zero —, ``"stalled"``,
+    ``"steps"``).
     """
 
     kind: str

@@ -10,7 +10,7 @@ from symkin.kinds import Kind
 from symkin.workspace.locus_problems import LocusProblems, LocusSystem
 from symkin.workspace.refine_data import SingularPoint
 
-__all__ = ["add_point"]
+__all__ = ["add_point", "one_per_family"]
 
 
 def add_point(points: list, pb: LocusProblems, system: LocusSystem, y: np.ndarray, mode, scale, tol,
@@ -39,3 +39,26 @@ def add_point(points: list, pb: LocusProblems, system: LocusSystem, y: np.ndarra
     if kind is None:
         kind = Kind.IM if Kind.IM in types else (Kind.MEETING if len(types) >= 2 else (types[0] if types else Kind.END))
     points.append(SingularPoint(str(kind), mode, at, tuple(str(t) for t in types), q))
+
+
+def one_per_family(points: list, families: list, scale, tol) -> list:
+    """The points with one per map point of ``families`` (axis values over which a family of configurations lies).
+
+    Every configuration of such a family is singular and maps to the same axis values: the
+    points recorded there (ends of curves running into the family, the family itself) are one
+    point of the map, the first recorded that is not a cusp (else the first).  Same axis
+    values: within :attr:`Tolerances.same_configuration` relative to the axis scale.
+    """
+    scale = np.asarray(scale, float)
+    keep, taken = [], set()
+    for p in points:
+        fam = next((k for k, a in enumerate(families)
+                    if np.linalg.norm((np.asarray(p.at) - a) / scale) <= tol.same_configuration), None)
+        if fam is None:
+            keep.append(p)
+        elif fam not in taken:
+            at_family = [q for q in points if np.linalg.norm((np.asarray(q.at) - families[fam]) / scale)
+                         <= tol.same_configuration]
+            keep.append(next((q for q in at_family if q.kind != Kind.CUSP), at_family[0]))
+            taken.add(fam)
+    return keep

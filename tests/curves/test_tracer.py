@@ -5,7 +5,8 @@ import math
 
 import numpy as np
 
-from symkin.curves.events import ArclengthLimit, Closed, EventType, LeftBox, ParameterReached, SingularEvent
+from symkin.curves.events import (ArclengthLimit, Closed, EventType, LeftBox, ParameterReached, SingularEvent, StepEnd,
+                                  StepRule)
 from symkin.curves.stepper import Settings
 from symkin.curves.tracer import trace_curve
 from symkin.kinds import Kind
@@ -87,3 +88,30 @@ def test_a_singular_event_is_moved_onto_the_branch_point():
                       stops=[ArclengthLimit(2.0)], priority=(Kind.IM,))
     assert [e.kind for e in out.events] == [Kind.IM]
     assert float(np.max(np.abs(out.events[0].y))) <= 1e-12
+
+
+class LeavesUpperHalf(StepRule):
+    """A caller's step rule: the step crosses ``y = 0`` downwards (the step's point kept when ``keep``)."""
+
+    reason, message = "lower half", "left the upper half plane"
+
+    def __init__(self, keep: bool):
+        self.keep = keep
+
+    def check(self, problem, history, point):
+        if history[-1].y[1] >= 0 > point.y[1]:
+            return StepEnd(self.reason, keep=self.keep, data=("found", float(point.y[1])))
+        return None
+
+
+def test_step_rule_ends_the_trace_before_the_step_events_and_passes_its_data():
+    for keep in (False, True):
+        x_axis = EventType("y", lambda y, t: float(y[1]), kind=Kind.DKP_INPUT)
+        out = trace_curve(Circle(), Y0, T0, events=[x_axis],
+                          stops=[LeavesUpperHalf(keep), Closed(Y0, T0, 0.2, 0.4), ArclengthLimit(10.0)])
+        assert out.stop.reason == "lower half" and out.stop.data[0] == "found"
+        assert out.stop.data[1] < 0 and out.stop.point.point.y[1] < 0
+        # the crossing of y = 0 at 180° is on the step that ended the trace: not located
+        assert not out.events
+        last = out.points[-1].point.y
+        assert (last[1] < 0) == keep and abs(last[0] + 1.0) < 0.5

@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
+import stat
 import subprocess
 import warnings
 import zlib
@@ -192,10 +194,18 @@ def test_codegen_command_writes_sources_header_and_a_loadable_library(tmp_path):
 
     model.write_text(json.dumps(data("five_bar")))
     out_dir = tmp_path / "gen"
-    out = _run_command([str(model), "--out", str(out_dir)])
+    mask = os.umask(0o022)
+    try:
+        out = _run_command([str(model), "--out", str(out_dir)])
+    finally:
+        os.umask(mask)
     assert out.code == 0, out.message
     for suffix in (".c", ".h", ".json", ".so"):
         assert (out_dir / f"fivebar_evaluators{suffix}").exists()
+    # modes of any generated file under umask 022 (not mkstemp's 0600): sources 0644, the library 0755
+    modes = {suffix: stat.S_IMODE((out_dir / f"fivebar_evaluators{suffix}").stat().st_mode)
+             for suffix in (".c", ".h", ".json", ".so")}
+    assert modes == {".c": 0o644, ".h": 0o644, ".json": 0o644, ".so": 0o755}
     assert "indicators(q[6x1]) -> im[1x1]" in out.text
     ev = evaluators(get("five_bar"))
     q = _configurations(ev, 5, 3)

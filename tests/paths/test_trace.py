@@ -193,7 +193,7 @@ def test_peaucellier_flattened_pose_reported_once_on_the_closure_with_its_classi
         # (and by the LIM test of the crank, which stops there)
         assert set(e.tests) == {"DKP-input", "IM", "LIM:crank"} and e.kinds == ("IM", "DKP-input", "LIM")
     assert sorted(round(math.degrees(e.absolute), 9) for e in events) == \
-        sorted(round(math.degrees(p["crank"]), 9) for p in poses)
+        sorted(round(math.degrees(p["crank"]) % 360, 9) for p in poses)  # absolute angles in [0°, 360°)
 
 
 @pytest.mark.parametrize("name, kwargs", [
@@ -272,3 +272,37 @@ def test_peaucellier_events_do_not_depend_on_the_unit_of_length(factor):
         assert (e.analysis.types, e.analysis.dof) == (("IM", "DKP-input", "LIM"), 3)
         assert min(angle_diff(e.absolute, p["crank"]) for p in poses) < 1e-12
         assert link_length_error(m, e.coordinates) <= 1e-12
+
+
+def test_trace_results_honour_the_unit_asked_for():
+    """``trace(..., unit="deg")``: ``values``/``to_dict`` in degrees; relative in (−180°, 180°], absolute in [0°, 360°)."""
+    m = catalogue.get("fourbar_appendix")
+    deg = trace(m, stop=360, unit="deg")
+    rad = trace(m, stop=2 * math.pi)
+    assert deg.unit == "deg" and rad.unit == "rad"
+    for a, b in zip(deg.singular_events(), rad.singular_events()):
+        vd, vr = deg.values(a), rad.values(b)
+        for key in ("input", "relative", "absolute"):
+            assert vd[key] == pytest.approx(math.degrees(vr[key]), abs=1e-7)
+        assert -180 < vd["relative"] <= 180 and 0 <= vd["absolute"] < 360
+        assert math.isclose(math.remainder(vd["input"] - vd["relative"], 360), 0, abs_tol=1e-9)
+    events = deg.to_dict()["events"]  # the JSON in the unit of the trace by default
+    assert [e["input"] for e in events] == pytest.approx([deg.values(e)["input"] for e in deg.events])
+    assert rad.to_dict("deg")["events"][0]["relative"] == pytest.approx(events[0]["relative"], abs=1e-7)
+    out = deg.outputs(deg.singular_events()[-1])
+    assert out["rotation:rocker"]["relative"] == pytest.approx(-24.24725354, abs=1e-7)
+    assert out["rotation:rocker"]["absolute"] == pytest.approx(61.3540411, abs=1e-6)
+
+
+def test_coordinate_values_relative_and_absolute():
+    """A node coordinate's absolute value is the coordinate (as a map's axes); a length is not wrapped."""
+    from symkin.paths.trace import CoordinateValues
+
+    m = catalogue.get("five_bar")
+    x = np.array([c for _, c in m.nodes], float)
+    x[m.node_index()["P"], 0] += 0.5  # values are expressions of the coordinates: no closure needed
+    v = CoordinateValues(m, ["velocity:P.x", "velocity:P.y", "rotation:crank1"])(x, unit="deg")
+    assert v["velocity:P.x"] == {"relative": 0.5, "absolute": 0.5}
+    assert v["velocity:P.y"] == {"relative": 0.0, "absolute": 2.0}
+    assert v["rotation:crank1"]["relative"] == 0.0
+    assert v["rotation:crank1"]["absolute"] == pytest.approx(180 - math.degrees(math.atan2(0.8, 0.6)), abs=1e-12)

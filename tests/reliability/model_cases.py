@@ -1,4 +1,4 @@
-import math, time, sys, signal
+import math
 from symkin.model.catalogue import data
 
 def fixed_repeated(n):

@@ -271,6 +271,11 @@ def test_watt_sixbar_every_dkp_configuration_by_elementary_geometry():
     by_kind = {ch.kind: ch for ch in r.checks}
     assert by_kind["DKP-input"].homotopy == sum(k == "DKP-input" for k, _ in expected)
     assert by_kind["DKP-output"].homotopy == sum(k == "DKP-output" for k, _ in expected)
+    # the rocker D-C-E stops where A, B, C are collinear (DKP-output) and where E, G, F are (DKP-input):
+    # its LIM system finds those 2 + 2 again, merged with them (no new configuration)
+    lim = by_kind["LIM"]
+    assert lim.name == "LIM:rocker" and lim.homotopy == lim.matched == 4 and lim.agree is True
+    assert sum("rocker" in s.locked_links and "LIM" in s.types for s in r.singularities) == 4
 
 
 # ---------------------------------------------------------------- errors and the command line
@@ -408,7 +413,8 @@ def test_beyond_max_paths_msolve_solves_the_square_systems_exactly():
     r = singularities(m, max_paths=0)
     expected = watt_expected()
     assert_singular_set(r, expected, m, crank_input(m))
-    assert [ch.solver for ch in r.checks] == ["msolve", "msolve"] and r.agree is True
+    assert [ch.name for ch in r.checks] == ["DKP-input", "DKP-output", "LIM:rocker"]  # the rocker D-C-E's LIM system
+    assert [ch.solver for ch in r.checks] == ["msolve", "msolve", "msolve"] and r.agree is True
     by_kind = {ch.kind: ch for ch in r.checks}
     for kind in ("DKP-input", "DKP-output"):
         ch = by_kind[kind]
