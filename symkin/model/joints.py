@@ -52,7 +52,7 @@ from typing import Any, Mapping
 from symkin.errors import Problem
 from symkin.model.mechanism import Parameter, length_scale
 
-__all__ = ["Joint", "CompiledJoints", "JOINT_TYPES", "JOINT_KEYS", "GROUND", "compile_joints"]
+__all__ = ["Joint", "CompiledJoints", "Limits", "JOINT_TYPES", "JOINT_KEYS", "GROUND", "compile_joints"]
 
 #: the joint types allowed in a planar (2) and a spatial (3) model
 JOINT_TYPES = {2: ("R", "P"), 3: ("R", "P", "C", "U", "S")}
@@ -99,18 +99,26 @@ class CompiledJoints:
     problems: tuple[Problem, ...]
 
 
-#: largest magnitude of a coordinate or an axis component (as :data:`symkin.model.validation.COORDINATE_LIMIT`)
-_LIMIT = 1e100
+@dataclass(frozen=True)
+class Limits:
+    """The bounds of a model's numbers (:mod:`symkin.model.validation` passes its own).
 
+    ``coordinate``: largest magnitude of a coordinate or an axis component;
+    ``length``: smallest norm of an axis.
+    """
 
-def _num(v: Any) -> bool:
-    """A finite number within ±1e100 (an integer too large for a float is not)."""
-    if not isinstance(v, (int, float)) or isinstance(v, bool):
-        return False
-    try:
-        return math.isfinite(float(v)) and abs(float(v)) <= _LIMIT
-    except OverflowError:
-        return False
+    geometry: float
+    coordinate: float
+    length: float
+
+    def number(self, v: Any) -> bool:
+        """A finite number within ``±coordinate`` (an integer too large for a float is not)."""
+        if not isinstance(v, (int, float)) or isinstance(v, bool):
+            return False
+        try:
+            return math.isfinite(float(v)) and abs(float(v)) <= self.coordinate
+        except OverflowError:
+            return False
 
 
 def _unit(v):
@@ -135,7 +143,8 @@ def _normal(u):
     return _unit(w)
 
 
-def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, problems: list) -> Joint | None:
+def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limits: Limits,
+                 problems: list) -> Joint | None:
     key = f"joints[{k}]"
 
     def bad(message: str, where: str = key) -> None:
@@ -183,7 +192,7 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, prob
         bad(f"joins link {pair[0]!r} to itself", where)
         ok = False
     at = item.get("at")
-    if not (isinstance(at, (list, tuple)) and len(at) == dim and all(_num(v) for v in at)):
+    if not (isinstance(at, (list, tuple)) and len(at) == dim and all(limits.number(v) for v in at)):
         bad(f"at must be {dim} finite numbers (the joint's point), got {at!r}", where)
         ok = False
     axes = []
@@ -201,13 +210,13 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, prob
             ok = False
             axes.append(None)
             continue
-        if not (isinstance(value, (list, tuple)) and len(value) == dim and all(_num(v) for v in value)):
+        if not (isinstance(value, (list, tuple)) and len(value) == dim and all(limits.number(v) for v in value)):
             bad(f"{name} must be {dim} finite numbers, got {value!r}", where)
             ok = False
             axes.append(None)
             continue
         norm = math.sqrt(sum(float(v) ** 2 for v in value))
-        if not norm > 1e-100:
+        if not norm >= limits.length:
             bad(f"zero {name} {list(value)!r}: a joint axis needs a direction", where)
             ok = False
             axes.append(None)
@@ -397,18 +406,19 @@ def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems:
     return out
 
 
-def compile_joints(data: Mapping, dim: int, geometry_tol: float) -> CompiledJoints:
+def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
     """The node form of a model with ``joints`` (see the module docstring).
 
-    ``data`` is the model dictionary as read; ``dim`` its (valid) dimension;
-    ``geometry_tol`` the relative tolerance of geometric checks
-    (:attr:`symkin.Tolerances.geometry`).  Nothing is raised: problems are returned.
+    ``data`` is the model dictionary as read; ``dim`` its (valid) dimension; ``limits``
+    the relative tolerance of geometric checks (:attr:`symkin.Tolerances.geometry`) and the
+    bounds of numbers.  Nothing is raised: problems are returned.
 
     Examples
     --------
     >>> c = compile_joints({"dim": 2, "links": {"crank": [], "rocker": []},
     ...                     "joints": [{"type": "R", "links": ["ground", "crank"], "at": [0, 0]},
-    ...                                {"type": "R", "links": ["crank", "rocker"], "at": [1, 0]}]}, 2, 1e-6)
+    ...                                {"type": "R", "links": ["crank", "rocker"], "at": [1, 0]}]},
+    ...                    2, Limits(geometry=1e-6, coordinate=1e100, length=1e-100))
     >>> c.data["links"], c.data["fixed"]
     ({'crank': ['R1', 'R2'], 'rocker': ['R2']}, ['R1'])
     """
@@ -427,17 +437,17 @@ def compile_joints(data: Mapping, dim: int, geometry_tol: float) -> CompiledJoin
                                                    "rename the link"))
     nodes = data.get("nodes") or {}
     if not isinstance(nodes, Mapping) or not all(
-            isinstance(p, (list, tuple)) and len(p) == dim and all(_num(v) for v in p) for p in nodes.values()):
+            isinstance(p, (list, tuple)) and len(p) == dim and all(limits.number(v) for v in p) for p in nodes.values()):
         return CompiledJoints(dict(data), (), (), (Problem("nodes", f"with joints, nodes must be a table of "
                                                                     f"name = [{dim} finite numbers within "
-                                                                    f"±{_LIMIT:g}]"),))
+                                                                    f"±{limits.coordinate:g}]"),))
     fixed = data.get("fixed", [])
     if not isinstance(fixed, (list, tuple)) or not all(isinstance(n, str) and n in nodes for n in fixed):
         return CompiledJoints(dict(data), (), (), (Problem("fixed", "must be a list of node names"),))
     counts: dict[str, int] = {}
     joints, seen = [], {}
     for k, item in enumerate(items):
-        j = _parse_joint(item, k, dim, links, counts, problems)
+        j = _parse_joint(item, k, dim, links, counts, limits, problems)
         if j is None:
             continue
         if j.id in seen:
@@ -447,17 +457,17 @@ def compile_joints(data: Mapping, dim: int, geometry_tol: float) -> CompiledJoin
         seen[j.id] = k
         joints.append(j)
     for j in joints:
-        if j.type == "U" and abs(_dot(j.axis, j.axis2)) > geometry_tol:
+        if j.type == "U" and abs(_dot(j.axis, j.axis2)) > limits.geometry:
             angle = math.degrees(math.acos(max(-1.0, min(1.0, _dot(j.axis, j.axis2)))))
             problems.append(Problem(f"joints ({j.id})", f"the axes of U joint {j.id} are not perpendicular "
-                                                        f"({angle:.6g}°; tolerance {geometry_tol:g} in the "
+                                                        f"({angle:.6g}°; tolerance {limits.geometry:g} in the "
                                                         "cosine)"))
     if problems:
         return CompiledJoints(dict(data), tuple(joints), (), tuple(problems))
 
     points = [tuple(map(float, p)) for p in nodes.values()] + [j.at for j in joints]
     reach = length_scale(dict(enumerate(points)), [range(len(points))])
-    b = _Builder(data, reach, geometry_tol * reach, problems)
+    b = _Builder(data, reach, limits.geometry * reach, problems)
     for j in joints:
         if not b.check_on(j):
             continue

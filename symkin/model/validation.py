@@ -13,7 +13,7 @@ from itertools import product
 from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
-from symkin.model.joints import compile_joints
+from symkin.model.joints import Limits, compile_joints
 from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider, length_scale
 from symkin.tolerances import DEFAULT
 
@@ -155,7 +155,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     if "joints" in data:  # compiled to nodes, links and sliders, then checked as a node model
         if dim is None:
             raise ModelError(out.problems, source)
-        compiled = compile_joints(data, dim, tolerances.geometry)
+        compiled = compile_joints(data, dim, Limits(tolerances.geometry, COORDINATE_LIMIT, MIN_LENGTH))
         if compiled.problems:
             raise ModelError(out.problems + list(compiled.problems), source)
         data, joints, joint_rates = compiled.data, compiled.joints, compiled.rates
