@@ -6,6 +6,7 @@ import copy
 import io
 import json
 
+import numpy as np
 import pytest
 
 import symkin
@@ -201,3 +202,16 @@ def test_cli_path_accepts_a_joint_label():
     assert code == 0, err.getvalue()
     data = json.loads(out.getvalue())
     assert data["input"] == "joint:A" and data["stop_reason"] == "reached" and data["events"]
+
+
+def test_ground_as_the_second_link_of_a_p_turns_the_slide_around():
+    sc = catalogue.get("slider_crank")
+    data = jf.slider_crank(sc.coordinates(), (0.0, 0.25), (1.0, 0.0))
+    data["joints"][3].update(links=["block", "ground"], axis=[-1.0, 0.0])   # ground slides on the block along -x
+    a = symkin.analyze(symkin.Mechanism.from_dict(data))
+    b = symkin.analyze(symkin.Mechanism.from_dict(jf.slider_crank(sc.coordinates(), (0.0, 0.25), (1.0, 0.0))))
+    va, vb = a.motion.V[:, 0], b.motion.V[:, 0]
+    ra = symkin.Mechanism.from_dict(data)
+    assert ra.slider("P1").direction == (1.0, 0.0)           # the block's rate along +x, as ground first
+    assert (a.dof, a.types, a.input_rank, a.output_rank) == (b.dof, b.types, b.input_rank, b.output_rank)
+    assert np.allclose(np.abs(va), np.abs(vb))
