@@ -353,7 +353,7 @@ def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list) -> Pa
     return None
 
 
-def _motions(joint: Joint, dim: int) -> tuple[str, ...]:
+def _motions(joint: Joint) -> tuple[str, ...]:
     """The rates a joint has: "rotation", "slide", or "1", "2" for U (S has none by joint)."""
     if joint.type == "R":
         return ("rotation",)
@@ -396,7 +396,7 @@ def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems:
             problems.append(Problem(where, f"'motion' and 'axis' go with C and U joints, not with "
                                            f"{joint.type} joint {joint.id}"))
             return None
-        motion = _motions(joint, dim)[0]
+        motion = _motions(joint)[0]
     p = _rate(joint, dim, motion, where, problems)
     if p is None:
         return None
@@ -495,7 +495,7 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
 
     rates = []
     for j in joints:
-        for motion in _motions(j, dim):
+        for motion in _motions(j):
             p = _rate(j, dim, motion, "", [])
             if p is not None:
                 rates.append((p.label, p))
