@@ -325,3 +325,68 @@ def test_rpr_im_locus_has_no_curve_the_loci_share_only_points():
     assert len(conic) == 1 and not _one_real_point(conic[0], (xo, yo))
     assert im.factors == () and "one real point" in im.note and not loci.skipped
     assert not _one_real_point(xo ** 2 + yo ** 2 - 1, (xo, yo)) and _one_real_point(3 * (xo - 1) ** 2 + 3 * yo ** 2, (xo, yo))
+
+
+# ----------------------------------------------------------------------------------- float data (issue 17 §4)
+def _floated(mech: symkin.Mechanism) -> symkin.Mechanism:
+    """The same five-bar with its moving nodes recomputed in floats from angles, as a user writes them
+    (every length equal to the exact one only up to rounding)."""
+    nodes = dict(mech.nodes)
+
+    def polar(origin, target):
+        dx, dy = target[0] - origin[0], target[1] - origin[1]
+        r, a = math.hypot(dx, dy), math.atan2(dy, dx)
+        return r, a
+
+    out = {k: list(v) for k, v in nodes.items()}
+    for pivot, elbow in (("A1", "B1"), ("A2", "B2")):
+        r, a = polar(nodes[pivot], nodes[elbow])
+        out[elbow] = [nodes[pivot][0] + r * math.cos(a), nodes[pivot][1] + r * math.sin(a)]
+    r, a = polar(nodes["B1"], nodes["P"])
+    out["P"] = [out["B1"][0] + r * math.cos(a), out["B1"][1] + r * math.sin(a)]
+    data = mech.to_dict()
+    data["nodes"] = out
+    return symkin.Mechanism.from_dict(data)
+
+
+def test_float_five_bar_gives_the_exact_models_factors():
+    """Pivots (±1, 0), cranks 2, distal links 5/2 (B2 = (−13/17, 16/17), a rational point): the model
+    rebuilt in floats (and the issue's own float five-bar) gives the same factors and meanings as the
+    exact one, and says which numbers it snapped."""
+    exact = five_bar((-1, 0), (1, 0), (-1, 2), (-13 / 17, 16 / 17), (1.5, 2))
+    floated = _floated(exact)
+    b1 = (-1.9686951572356552, 1.7497513230022688)
+    issue = five_bar((-1, 0), (1, 0), b1, (-b1[0], b1[1]), (0.0, b1[1] + math.sqrt(2.5 ** 2 - b1[0] ** 2)))
+    want = implicit_loci(exact)
+    assert want.snap.snapped == []
+    for mech in (floated, issue):
+        got = implicit_loci(mech)
+        for kind in ("DKP-input", "DKP-output"):
+            assert factor_set(got[kind], (x, y)) == factor_set(want[kind], (x, y)), kind
+            if mech is floated:
+                assert [f.meaning for f in got[kind].factors] == [f.meaning for f in want[kind].factors]
+        out = got["DKP-output"]
+        assert sorted(f.degree for f in out.factors) == [2, 2, 2, 2]
+        assert sum("radius 9/2 = l_crank1 + l_distal1" in f.meaning for f in out.factors) == 1
+        assert sorted(f.degree for f in got["DKP-input"].factors) == [4, 6]
+        assert any("sextic" in f.meaning for f in got["DKP-input"].factors)
+    issue_loci = implicit_loci(issue)
+    assert [s.exact for s in issue_loci.snap.snapped] == [sp.Rational(25, 4)] * 2
+    assert "snapped to the simplest rationals within 1e-06 x the length scale" in str(issue_loci)
+    data = issue_loci.as_dict()["snapping"]
+    assert data["relative_tolerance"] == 1e-6 and {s["snapped"] for s in data["snapped"]} == {"25/4"}
+    assert all(s["what"].startswith("squared length of distal") for s in data["snapped"])
+
+
+def test_snapping_a_shared_length_once_and_within_the_tolerance():
+    from symkin.symbolic.snapping import simplest_rational, snap_model
+
+    assert simplest_rational(2.0000000000000004, 1e-6) == 2 and simplest_rational(1 / 3, 1e-9) == sp.Rational(1, 3)
+    assert simplest_rational(2750.0, 0.002) == 2750  # an integer stays itself in any unit
+    r = simplest_rational(0.1234567, 1e-12)  # the smallest denominator within the tolerance
+    assert abs(float(r) - 0.1234567) <= 1e-12 and r.q < 10 ** 7
+    # two links whose lengths differ by less than the tolerance get one rational
+    mech = five_bar((-1, 0), (1, 0), (-1, 2.0000001), (1, 2.0000002), (0, 2.75))
+    s = snap_model(mech)
+    assert s.squared_length("crank1", "A1", "B1") == s.squared_length("crank2", "A2", "B2") == 4
+    assert abs(float(s.squared_length("crank1", "A1", "B1")) - 2.0000001 ** 2) <= 2 * 2.0000001 * s.tolerance
