@@ -74,8 +74,9 @@ from symkin.model.labels import CoordinateLabel, parse_hold, parse_label
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.symbolic.conditions import DerivationTimeout
+from symkin.symbolic.real_points import isolated_real_points
 from symkin.symbolic.snapping import ModelSnap, snap_model
-from symkin.symbolic.symbols import coordinate_symbol, length_symbol, offset_symbol
+from symkin.symbolic.symbols import coordinate_symbol, exact, length_symbol, offset_symbol
 from symkin.tolerances import Tolerances
 
 #: the lead of the list of accepted labels in a bad-label message
@@ -796,13 +797,27 @@ def _meaning(f: sp.Expr, xs, sys: _System) -> tuple[str, bool]:
             return f"circle centred at {where}, radius {_radius_text(r, sys, centre)}", False
         disc = b ** 2 - 4 * a * cc
         kind = "ellipse" if disc < 0 else ("hyperbola" if disc > 0 else "parabola")
-        return f"conic ({kind})", False
+        return _points_only(f, xs, f"conic ({kind})", mech, x0)
     top = sp.Add(*[c[m] * x ** m[0] * y ** m[1] for m in c if sum(m) == d])
     if d % 2 == 0 and sp.expand(top - top.coeff(x, d) * (x ** 2 + y ** 2) ** (d // 2)) == 0:
         k = d // 2
         name = {3: "tricircular sextic (the class of Watt's curve)"}.get(k, f"{k}-circular curve of degree {d}")
+        return _points_only(f, xs, name, mech, x0)
+    return _points_only(f, xs, f"degree-{d} curve", mech, x0)
+
+
+def _points_only(f, xs, name: str, mech, x0) -> tuple[str, bool]:
+    """``name``, unless the factor has no real curve: then "no real point" (trivial) or its
+    isolated real points, as a circle of radius 0 is named (:mod:`symkin.symbolic.real_points`)."""
+    points = isolated_real_points(f, xs)
+    if points is None:
         return name, False
-    return f"degree-{d} curve", False
+    if not points:
+        return f"{name} with no real point", True
+    where = [_node_at(mech, x0, (exact(px), exact(py)), xs) for px, py in points]
+    if len(where) == 1:
+        return f"the point {where[0]} (a {name} with one real point)", False
+    return f"the {len(where)} points {', '.join(where)} (a {name} with isolated real points only)", False
 
 
 def _num(v) -> str:
@@ -1037,14 +1052,17 @@ def _dkp_locus(sm, sys, subs, blocks, xs, kind, time_limit, limit, t0) -> Locus:
 
 
 def _one_real_point(f, xs) -> bool:
-    """Whether the factor ``f`` is ``a((x − h)² + (y − k)²)``: a circle of radius 0, one real point (no curve)."""
+    """Whether the factor ``f`` has one real point and no real curve: ``a((x − h)² + (y − k)²)`` (a
+    circle of radius 0), or any factor with one isolated real point (:func:`isolated_real_points`)."""
     x, y = xs
     p = sp.Poly(f, x, y)
     if p.total_degree() != 2:
-        return False
+        points = isolated_real_points(f, xs)
+        return points is not None and len(points) == 1
     a, b, cc = (p.coeff_monomial(m) for m in (x ** 2, x * y, y ** 2))
     if b != 0 or a != cc or a == 0:
-        return False
+        points = isolated_real_points(f, xs)
+        return points is not None and len(points) == 1
     h, k = -p.coeff_monomial(x) / (2 * a), -p.coeff_monomial(y) / (2 * a)
     return sp.simplify(h ** 2 + k ** 2 - p.coeff_monomial(1) / a) == 0
 

@@ -390,3 +390,19 @@ def test_snapping_a_shared_length_once_and_within_the_tolerance():
     s = snap_model(mech)
     assert s.squared_length("crank1", "A1", "B1") == s.squared_length("crank2", "A2", "B2") == 4
     assert abs(float(s.squared_length("crank1", "A1", "B1")) - 2.0000001 ** 2) <= 2 * 2.0000001 * s.tolerance
+
+
+def test_a_sextic_with_one_real_point_is_named_as_such():
+    """Cranks 1 about (∓1, 0), distal links 3: B1, P, B2 never line up (|B1 B2| ≤ 4 < 6), so the
+    DKP-input sextic (Watt's curve of a bar of length 6, P its midpoint) has only its isolated real
+    point at the origin, and is named like a circle of radius 0; the model is written in floats
+    (P = (0, 1 + √8))."""
+    from symkin.symbolic.real_points import isolated_real_points
+
+    mech = five_bar((-1, 0), (1, 0), (-1, 1), (1, 1), (0, 1 + math.sqrt(8)))
+    locus = implicit_loci(mech, kinds=("DKP-input",))["DKP-input"]
+    sextic = [f for f in locus.factors if f.degree == 6]
+    assert len(sextic) == 1 and same_up_to_constant(sextic[0].polynomial, watt_sextic(1, 1, 3), (x, y))
+    assert sextic[0].meaning.startswith("the point (0, 0) (a tricircular sextic") and "one real point" in sextic[0].meaning
+    assert isolated_real_points(watt_sextic(A, B, C), (x, y)) is None  # the five-bar's real Watt curve
+    assert isolated_real_points(x ** 4 + y ** 4 + 1, (x, y)) == []
