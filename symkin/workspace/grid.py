@@ -178,15 +178,18 @@ class ModeGrid(ModeArrays):
 
 # ---------------------------------------------------------------------- continuation
 def _minima(values: np.ndarray, solved: np.ndarray, j: np.ndarray, i: np.ndarray, region: np.ndarray) -> np.ndarray:
-    """Which points ``(j[k], i[k])`` have ``values`` at most those of their solved neighbours in their region."""
+    """Which points ``(j[k], i[k])`` have ``values`` at most those of both solved neighbours along x or along y
+    (in their region): :func:`symkin.workspace.lim_points.line_minima` while the grid is continued."""
     ny, nx = values.shape
-    low = solved[j, i].copy()
-    for dj, di in _NEIGHBOURS:
-        jn, in_ = j + dj, i + di
-        inside = (jn >= 0) & (jn < ny) & (in_ >= 0) & (in_ < nx)
-        jn, in_ = np.clip(jn, 0, ny - 1), np.clip(in_, 0, nx - 1)
-        inside &= (region[jn, in_] == region[j, i]) & solved[jn, in_]
-        low &= ~inside | (values[j, i] <= values[jn, in_])
+    low = np.zeros(len(j), bool)
+    for (dj, di) in ((0, 1), (1, 0)):
+        line = solved[j, i].copy()
+        for s in (1, -1):
+            jn, in_ = j + s * dj, i + s * di
+            inside = (jn >= 0) & (jn < ny) & (in_ >= 0) & (in_ < nx)
+            jn, in_ = np.clip(jn, 0, ny - 1), np.clip(in_, 0, nx - 1)
+            line &= inside & (region[jn, in_] == region[j, i]) & solved[jn, in_] & (values[j, i] <= values[jn, in_])
+        low |= line
     return low
 
 

@@ -12,7 +12,7 @@ from symkin.workspace import quadtree
 from symkin.workspace.locus_problems import LOCUS_NEWTON_TOL, LocusProblems
 from symkin.workspace.refine_data import GridData, RefineStats
 
-__all__ = ["im_candidates", "grid_minima", "locate_im", "locate_im_many", "IM_SCREEN_ITERATIONS"]
+__all__ = ["im_candidates", "locate_im", "locate_im_many", "IM_SCREEN_ITERATIONS"]
 
 #: Gauss–Newton steps of the batched screen of IM-indicator minima (:func:`locate_im_many`): from a start
 #: within a finest quadtree cell of an IM point the rank-drop system converges quadratically in a few
@@ -26,17 +26,12 @@ def im_candidates(grid: GridData) -> list[tuple[int, int]]:
     Ties count: an IM point at the centre of a cell (Fig. 14: the origin of an even grid, by
     symmetry) gives four equal minima at the cell's corners; one of them is taken (the first,
     row-major: a tie with an earlier candidate among the neighbours is skipped; the located
-    point is the same).  A flat block (all nine equal) is no minimum (:func:`grid_minima`).
+    point is the same).  A flat block (all nine equal) is no minimum.
     """
     if grid.im_indicator is None:
         return []
-    return grid_minima(grid.im_indicator, grid.assembled)
-
-
-def grid_minima(values: np.ndarray, assembled: np.ndarray) -> list[tuple[int, int]]:
-    """Grid nodes ``(j, i)`` where ``values`` is a minimum among the eight assembled neighbours (ties: the first)."""
-    im = np.asarray(values, float)
-    asm = np.asarray(assembled, bool) & np.isfinite(im)
+    im = np.asarray(grid.im_indicator, float)
+    asm = np.asarray(grid.assembled, bool) & np.isfinite(im)
     ny, nx = im.shape
     out = []
     taken = set()

@@ -18,8 +18,11 @@ What a map does (:func:`symkin.workspace.loci.refine`, step 4b):
    dimensionless, zero exactly where the core's node speeds are), evaluated by the grid for
    every wave in one batch (:class:`LimIndicator`); the grid keeps the smallest over the links
    (``lim_indicator``) and the configurations at its minima.
-2. **Candidates** — the grid nodes where it is a minimum among the eight assembled neighbours
-   (:func:`symkin.workspace.im_points.grid_minima`).
+2. **Candidates** — the grid nodes where it is a minimum along a grid line, against both
+   assembled neighbours in x or in y (:func:`line_minima`).  Not only the minima among the eight
+   neighbours: the indicator is the norm of ``F`` rates that vanish on ``F`` curves, so near its
+   zero it is a cone that a nearly tangent pair of curves stretches into a narrow valley, whose
+   floor the grid samples off its line and may see sloping straight through the zero.
 3. **Screen and locate** — every candidate and every pivoted link take one batched
    Gauss–Newton polish (:meth:`LocusProblems.polish_lim_many`, the one corrector) of the
    square system ``(Φ_S/ℓ, holds, J_Sᵀψ + u) = 0`` in ``(q/ℓ, ψ)`` from the grid
@@ -46,7 +49,8 @@ from symkin.tolerances import Tolerances
 from symkin.workspace.locus_problems import LocusProblems, LocusSystem
 from symkin.workspace.refine_data import RefineStats, SingularPoint
 
-__all__ = ["PivotedLink", "pivoted_links", "LimIndicator", "locate_lim_many", "add_lim_point", "LIM_ITERATIONS"]
+__all__ = ["PivotedLink", "pivoted_links", "LimIndicator", "line_minima", "locate_lim_many", "add_lim_point",
+           "LIM_ITERATIONS"]
 
 #: Gauss–Newton steps of the batched LIM polish (:func:`locate_lim_many`): the system is square and
 #: regular at an isolated LIM point, so a start within a grid cell converges quadratically in a few steps
@@ -130,6 +134,24 @@ class LimIndicator:
         return self.many(q).min(axis=1)
 
 
+def line_minima(values: np.ndarray, assembled: np.ndarray) -> list[tuple[int, int]]:
+    """Grid nodes ``(j, i)`` where ``values`` is at most both assembled neighbours along x or along y.
+
+    A valley whose floor slopes along y (no minimum among eight neighbours inside the grid):
+    every node of its floor is one.
+
+    >>> j, i = np.mgrid[0:4, 0:5]
+    >>> line_minima((i - 2.0) ** 2 + 0.1 * j, np.ones((4, 5), bool))
+    [(0, 2), (1, 2), (2, 2), (3, 2)]
+    """
+    v = np.asarray(values, float)
+    ok = np.asarray(assembled, bool) & np.isfinite(v)
+    low = np.zeros(v.shape, bool)
+    low[:, 1:-1] |= ok[:, 1:-1] & ok[:, :-2] & ok[:, 2:] & (v[:, 1:-1] <= v[:, :-2]) & (v[:, 1:-1] <= v[:, 2:])
+    low[1:-1, :] |= ok[1:-1, :] & ok[:-2, :] & ok[2:, :] & (v[1:-1, :] <= v[:-2, :]) & (v[1:-1, :] <= v[2:, :])
+    return [(int(j), int(i)) for j, i in zip(*np.nonzero(low))]
+
+
 def locate_lim_many(pb: LocusProblems, indicator: LimIndicator, starts: list, box_d: np.ndarray,
                     tol: Tolerances, stats: RefineStats) -> list[tuple[np.ndarray, PivotedLink]]:
     """Located LIM configurations from the grid configurations ``starts`` (``[y]``), every link at once.
@@ -155,7 +177,8 @@ def locate_lim_many(pb: LocusProblems, indicator: LimIndicator, starts: list, bo
             if a is None or not (value[m] <= tol.event_threshold and np.all(a >= lo) and np.all(a <= hi)):
                 stats.lim_screened += 1
                 continue
-            out.append((y[m], link))
+            if not any(l is link and np.linalg.norm(y[m] - v) <= tol.same_configuration for v, l in out):
+                out.append((y[m], link))  # many starts along a valley reach the same point: once
     return out
 
 

@@ -77,8 +77,8 @@ Algorithm
    the constraints lose rank (:func:`symkin.workspace.im_points.locate_im`); the core decides
    whether it is IM (it is then reported).
 4b. **LIM points** (F ≥ 2) — at each grid node whose relative LIM indicator (the grid's
-   ``lim_indicator``: the smallest over the links turning about a fixed pivot) is below its eight
-   neighbours, every pivoted link takes one batched Gauss–Newton polish towards
+   ``lim_indicator``: the smallest over the links turning about a fixed pivot) is a minimum along
+   a grid line, every pivoted link takes one batched Gauss–Newton polish towards
    ``(Φ_S/ℓ, holds, J_Sᵀψ + u) = 0`` (:meth:`LocusProblems.polish_lim_many`); a converged start in the
    box whose link indicator is at most :attr:`Tolerances.event_threshold` is reported as a point of
    kind ``"LIM"`` when :func:`symkin.analyze` there says LIM with that link locked
@@ -122,8 +122,8 @@ from symkin.kinds import Kind
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 from symkin.workspace.cusps import locate_cusp
-from symkin.workspace.im_points import grid_minima, im_candidates, locate_im_many
-from symkin.workspace.lim_points import LimIndicator, add_lim_point, locate_lim_many
+from symkin.workspace.im_points import im_candidates, locate_im_many
+from symkin.workspace.lim_points import LimIndicator, add_lim_point, line_minima, locate_lim_many
 from symkin.workspace.locate import locate_crossing, locate_crossings, locate_double_zero, locate_fold
 from symkin.workspace.locus_problems import KINDS, OTHER_KIND, LocusProblems, LocusSystem
 from symkin.workspace.refine_data import Curve, GridData, RefineStats, SingularPoint
@@ -217,7 +217,7 @@ def _lim_points(pb: LocusProblems, sys_: LocusSystem, grid: GridData, scale, box
         return
     indicator = LimIndicator(sys_.evaluators)
     starts = []
-    for j, i in grid_minima(grid.lim_indicator, grid.assembled):
+    for j, i in line_minima(grid.lim_indicator, grid.assembled):
         qa = grid.config(j, i)
         ya = qa / pb.scale if qa is not None else resolve_from_seed(pb, grid, scale, (j, i))
         if ya is None:
