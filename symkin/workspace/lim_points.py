@@ -104,8 +104,8 @@ def pivoted_links(ev) -> tuple[PivotedLink, ...]:
 class LimIndicator:
     """The relative LIM indicator of every pivoted link at N configurations (one batch).
 
-    ``V`` is the orthonormal null space of ``J_S`` (the core's independent rows, from one
-    mapped evaluation of ``J``); a link's value is :func:`~symkin.analysis.indicators.link_speed`
+    ``V`` is an orthonormal basis of the null space of ``J_S`` (the core's independent rows, from
+    one mapped evaluation of ``J``; a batched complete QR of ``J_Sᵀ``); a link's value is :func:`~symkin.analysis.indicators.link_speed`
     of its free nodes' rows of ``V`` (their velocities over an orthonormal basis of motions).
     """
 
@@ -121,8 +121,9 @@ class LimIndicator:
         """Values (N, number of links) at the rows of ``q`` (N, nf)."""
         q = np.atleast_2d(np.asarray(q, float))
         js = self.ev.map("J", q)["J_free"][:, self.rows, :]
-        vh = np.linalg.svd(js, full_matrices=True)[2]
-        v = vh[:, len(self.rows):, :]  # (N, F, nf): orthonormal motions
+        # complete QR of J_Sᵀ: its last F columns are an orthonormal basis of the motions (the null space
+        # of J_S; where J_S loses rank, an IM configuration, F of its motions)
+        v = np.swapaxes(np.linalg.qr(np.swapaxes(js, 1, 2), mode="complete")[0][:, :, len(self.rows):], 1, 2)
         out = np.empty((len(q), len(self.links)))
         for k, link in enumerate(self.links):
             rows = v[:, :, link.columns]  # (N, F, k, 2)
