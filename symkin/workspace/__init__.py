@@ -14,7 +14,7 @@ unit row ``u`` lies in the row space of ``J_S`` (``J_Sᵀψ + u = 0``): ``F`` co
 codimension up to ``F`` that a map meets in isolated points when ``F = 2``.  Implemented: the grid
 evaluates per pivoted link the relative LIM indicator (``link_speed`` of the link's free-node rows of
 an orthonormal motion-space basis; one batch per wave) and keeps the smallest; its minima along grid
-lines are candidates; one batched Gauss–Newton polish of ``(Φ_S/ℓ, holds, J_Sᵀψ + u) = 0`` in
+lines are candidates; one batched Gauss–Newton polish of ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` (on the slice) in
 ``(q/ℓ, ψ)`` per link locates them (kept below :attr:`~symkin.tolerances.Tolerances.event_threshold`,
 in the box); a located configuration that :func:`symkin.analyze` classifies LIM with that link in
 ``locked_links`` is a point of kind ``"LIM"`` (:attr:`symkin.kinds.Kind.LIM`) with its

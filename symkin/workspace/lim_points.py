@@ -25,9 +25,10 @@ What a map does (:func:`symkin.workspace.loci.refine`, step 4b):
    floor the grid samples off its line and may see sloping straight through the zero.
 3. **Screen and locate** — every candidate and every pivoted link take one batched
    Gauss–Newton polish (:meth:`LocusProblems.polish_lim_many`, the one corrector) of the
-   square system ``(Φ_S/ℓ, holds, J_Sᵀψ + u) = 0`` in ``(q/ℓ, ψ)`` from the grid
-   configuration; a start is kept when it converged, its axis values lie in the box and the
-   link's indicator there is at most :attr:`~symkin.tolerances.Tolerances.event_threshold`.
+   square system ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` in ``(q/ℓ, ψ)`` from the grid configuration; a
+   start is kept when it converged onto the map's slice (the held coordinates at their
+   values: always when ``F = 2``), its axis values lie in the box and the link's indicator
+   there is at most :attr:`~symkin.tolerances.Tolerances.event_threshold`.
 4. **Classify** — a kept configuration is reported (kind ``"LIM"``) only when
    :func:`symkin.analyze` there has ``"LIM"`` in its types with the link in ``locked_links``;
    points at the same configuration or axis values are one.

@@ -79,7 +79,7 @@ Algorithm
 4b. **LIM points** (F ≥ 2) — at each grid node whose relative LIM indicator (the grid's
    ``lim_indicator``: the smallest over the links turning about a fixed pivot) is a minimum along
    a grid line, every pivoted link takes one batched Gauss–Newton polish towards
-   ``(Φ_S/ℓ, holds, J_Sᵀψ + u) = 0`` (:meth:`LocusProblems.polish_lim_many`); a converged start in the
+   ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` (:meth:`LocusProblems.polish_lim_many`); a start converged on the slice, in the
    box whose link indicator is at most :attr:`Tolerances.event_threshold` is reported as a point of
    kind ``"LIM"`` when :func:`symkin.analyze` there says LIM with that link locked
    (:mod:`symkin.workspace.lim_points`).
