@@ -25,7 +25,9 @@ It measures, in one run:
    of the catalogue five-bar and of the 3-RPR at constant orientation (``tests/workspace/models/rpr_3.toml``,
    the platform rotation held; O over the boxes of :data:`RPR_BOXES`); the time inside
    :func:`symkin.workspace.loci.refine` ("refine s") against the rest of the call ("grid s"), in the
-   same call; ratio = refine s ÷ grid s (target ≤ 2, and the 3-RPR 161 × 161 map under 30 s).
+   same call; ratio = refine s ÷ grid s (target ≤ 2, and the 3-RPR 161 × 161 map under 30 s).  The
+   LIM columns give the LIM screen's share (:mod:`symkin.workspace.lim_points`): the grid's LIM
+   indicator (inside "grid s") and the LIM step of refinement (inside "refine s"), and the LIM points.
 3. Dask: the five-bar at ``--n-dask``² (≥ 10⁶) points, tiles of ``parallel.TILE``, in one
    process (one continuation, ``tile=0``; the default: the same tiles, batched together) and on
    a ``LocalCluster`` of 2 worker processes (cluster start-up timed apart); the grid arrays of
