@@ -102,3 +102,17 @@ def test_catalogue_five_bar_over_p_has_no_lim_point():
     wmap = symkin.workspace_map(get("five_bar"), x="velocity:P.x=-3.5:3.5", y="velocity:P.y=0.2:4.4", n=41)
     assert lim_points(wmap) == []
     assert Kind.LIM not in wmap.counts()["0"]
+
+
+def test_lim_indicator_is_zero_for_the_locked_link_only(mech):
+    """The grid's per-link indicator (norm of the link's free-node rows of an orthonormal motion basis)
+    vanishes for the rocker at the LIM pose and not for the cranks, the inputs."""
+    from symkin.workspace.lim_points import LimIndicator
+
+    ev = symkin.evaluators(mech)
+    ind = LimIndicator(ev)
+    names = [link.name for link in ind.links]
+    assert names == ["crank1", "crank2", "rocker"]  # the moving links with one fixed pivot
+    v = ind.many(ev.q0[None])[0]
+    assert v[names.index("rocker")] <= 1e-12
+    assert min(v[names.index("crank1")], v[names.index("crank2")]) > 0.1
