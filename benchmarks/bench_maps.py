@@ -25,7 +25,9 @@ It measures, in one run:
    of the catalogue five-bar and of the 3-RPR at constant orientation (``tests/workspace/models/rpr_3.toml``,
    the platform rotation held; O over the boxes of :data:`RPR_BOXES`); the time inside
    :func:`symkin.workspace.loci.refine` ("refine s") against the rest of the call ("grid s"), in the
-   same call; ratio = refine s ÷ grid s (target ≤ 2, and the 3-RPR 161 × 161 map under 30 s).
+   same call; ratio = refine s ÷ grid s (target ≤ 2, and the 3-RPR 161 × 161 map under 30 s).  The
+   LIM columns give the LIM screen's share (:mod:`symkin.workspace.lim_points`): the grid's LIM
+   indicator (inside "grid s") and the LIM step of refinement (inside "refine s"), and the LIM points.
 3. Dask: the five-bar at ``--n-dask``² (≥ 10⁶) points, tiles of ``parallel.TILE``, in one
    process (one continuation, ``tile=0``; the default: the same tiles, batched together) and on
    a ``LocalCluster`` of 2 worker processes (cluster start-up timed apart); the grid arrays of
@@ -241,39 +243,59 @@ def rpr_case(box="tests' box"):
     return mech, dict(x=f"velocity:O.x={x0}:{x1}", y=f"velocity:O.y={y0}:{y1}", hold=("rotation:platform",))
 
 
-def timed_map(mech, kw, n):
-    """``workspace_map(refine=True)`` with the time spent in ``loci.refine`` apart: (grid s, refine s, map)."""
-    spent = [0.0]
-    inner = loci.refine
+def _timer(owner, name, spent: list, k: int):
+    """Wrap ``owner.name`` so that its time adds to ``spent[k]``; returns the original."""
+    inner = getattr(owner, name)
 
     def timed(*args, **kwargs):
         t0 = time.perf_counter()
         try:
             return inner(*args, **kwargs)
         finally:
-            spent[0] += time.perf_counter() - t0
+            spent[k] += time.perf_counter() - t0
 
+    setattr(owner, name, timed)
+    return inner
+
+
+def timed_map(mech, kw, n, lim_times: list | None = None):
+    """``workspace_map(refine=True)`` with the time spent in ``loci.refine`` apart: (grid s, refine s, map).
+
+    ``lim_times`` (a list) receives the LIM screen's share: the grid's LIM indicator
+    (``LimIndicator.smallest``, inside "grid s") and the LIM step of refinement (inside "refine s").
+    """
+    spent = [0.0, 0.0, 0.0]
     workspace_map(mech, n=5, refine=False, **kw)  # compile / load the artefacts once
-    loci.refine = timed
+    patched = [(loci, "refine", _timer(loci, "refine", spent, 0))]
+    if hasattr(loci, "_lim_points"):
+        from symkin.workspace.lim_points import LimIndicator
+
+        patched += [(LimIndicator, "smallest", _timer(LimIndicator, "smallest", spent, 1)),
+                    (loci, "_lim_points", _timer(loci, "_lim_points", spent, 2))]
     try:
         t0 = time.perf_counter()
         m = workspace_map(mech, n=n, refine=True, **kw)
         total = time.perf_counter() - t0
     finally:
-        loci.refine = inner
+        for owner, name, inner in patched:
+            setattr(owner, name, inner)
+    if lim_times is not None:
+        lim_times[:] = spent[1:]
     return total - spent[0], spent[0], m
 
 
 def section_refine_ratio(sizes, boxes=tuple(RPR_BOXES)):
     print("\n2b. refinement against the grid (workspace_map(refine=True), one process)")
-    print("   | mechanism | n | grid s | refine s | ratio | curves | points |")
-    print("   |---|---:|---:|---:|---:|---:|---:|")
+    print("   | mechanism | n | grid s | refine s | ratio | curves | points | LIM: grid s | refine s | points |")
+    print("   |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     cases = [("five-bar", (get("five_bar"), FIVE))] + [(f"3-RPR const. orientation, {b}", rpr_case(b)) for b in boxes]
     for name, (mech, kw) in cases:
         for n in sizes:
-            grid_s, refine_s, m = timed_map(mech, kw, n)
+            lim = [math.nan, math.nan]
+            grid_s, refine_s, m = timed_map(mech, kw, n, lim)
+            n_lim = sum(p.kind == "LIM" for p in m.points)
             print(f"   | {name} | {n} | {grid_s:.2f} | {refine_s:.2f} | {refine_s / grid_s:.2f} | "
-                  f"{len(m.curves)} | {len(m.points)} |", flush=True)
+                  f"{len(m.curves)} | {len(m.points)} | {lim[0]:.2f} | {lim[1]:.2f} | {n_lim} |", flush=True)
 
 
 def section_dask(n):

@@ -47,7 +47,8 @@ INDICATORS = {
 CMAPS = {"log": "viridis", "signed": "PuOr_r"}
 #: line style per curve kind (colours from the path plots, :data:`symkin.plots.paths.STYLE`)
 LINESTYLES = {Kind.DKP_INPUT: "-", Kind.DKP_OUTPUT: (0, (5, 2)), Kind.IM: ":"}
-#: marker per isolated point kind: the path plots' (IM, DKP) and a cusp of a traced curve
+#: marker per isolated point kind: the path plots' (IM, DKP, LIM: an orange downward triangle) and a cusp
+#: of a traced curve (an orange upward triangle)
 POINT_STYLES = {**STYLE, Kind.CUSP: dict(colour="#ff7f0e", marker="^")}
 BOUNDARY_COLOUR = "black"
 
@@ -332,7 +333,7 @@ def _legend_handles(wmap: WorkspaceMap):
     handles = [Line2D([], [], color=STYLE[k]["colour"], linestyle=LINESTYLES[k], linewidth=1.8,
                       label={Kind.DKP_INPUT: "DKP-input (type-2) curve", Kind.DKP_OUTPUT: "DKP-output (type-1) curve",
                              Kind.IM: "IM curve"}[k]) for k in kinds]
-    for k in (*KINDS, Kind.CUSP):
+    for k in (*KINDS, Kind.LIM, Kind.CUSP):
         if any(p.kind == k for p in wmap.points):
             handles.append(Line2D([], [], marker=POINT_STYLES[k]["marker"], color=POINT_STYLES[k]["colour"],
                                   linestyle="none", label=f"{k} point"))

@@ -4,24 +4,20 @@
 mode over the grid, indicators from the one analysis core), ``maps`` (the frozen
 :class:`~symkin.workspace.maps.WorkspaceMap`, JSON / npz) and ``loci`` (refinement to
 exact curves, the driver; its parts: ``locus_problems``, ``refine_data``, ``locate``,
-``im_points``, ``reseed``, ``cusps``, ``locus_events``, ``tracing`` (on the one tracer,
+``im_points``, ``lim_points``, ``reseed``, ``cusps``, ``locus_events``, ``tracing`` (on the one tracer,
 :func:`symkin.curves.tracer.trace_curve`), ``singular_points``; ``quadtree`` subdivides
 cells in batches).
 
-LIM points of a map (paper §III-B.3, §IV-C) — the rule, **not implemented yet**: a link is in
-LIM where every kinematic parameter of its motion is null whatever the inputs, i.e. its rows of
-the motion-space basis ``V`` / ``Ω`` vanish; a parameter ``u`` is null for every motion exactly
-when the row ``e_u`` lies in the row space of the constraint Jacobian ``J_S``:
-``J_Sᵀ ψ + e_u = 0`` for some ``ψ``.  For a link with one independent parameter (a link turning
-about a fixed pivot: its ``ω``) these are ``F`` conditions on the ``F``-dimensional configuration
-space: the link locks on a set of codimension up to ``F``, so a map (a 2-D slice, ``F − 2``
-coordinates held) meets it in isolated points when ``F = 2`` (or when a held value makes the set
-meet the slice), and generically not at all otherwise.  To report them, a map would: evaluate per
-link the relative LIM indicator ``max_u ‖V_u‖`` (the link's rows of an orthonormal motion-space
-basis, dimensionless velocities; one batch per grid wave, as the IM indicator); take its grid
-minima among the eight neighbours as candidates; subdivide and screen them as IM minima are (one
-batched Gauss–Newton polish of ``(Φ_S/ℓ, holds, J_Sᵀψ + e_u) = 0`` in ``(q/ℓ, ψ)``, refined only
-below :attr:`~symkin.tolerances.Tolerances.event_threshold`); and report a located configuration
-inside the box that the core classifies LIM (``"LIM"`` in ``analyze(...).types``) as a point of
-kind ``"LIM"`` (:attr:`symkin.kinds.Kind.LIM`), merged by axis values as IM points are.
+LIM points of a map (paper §III-B.3, §IV-C; ``lim_points``, step 4b of ``loci``): a planar link
+turning about a fixed pivot is in LIM where its angular rate is null whatever the inputs, i.e. its
+unit row ``u`` lies in the row space of ``J_S`` (``J_Sᵀψ + u = 0``): ``F`` conditions, a set of
+codimension up to ``F`` that a map meets in isolated points when ``F = 2``.  Implemented: the grid
+evaluates per pivoted link the relative LIM indicator (``link_speed`` of the link's free-node rows of
+an orthonormal motion-space basis; one batch per wave) and keeps the smallest; its minima along grid
+lines are candidates; one batched Gauss–Newton polish of ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` (on the slice) in
+``(q/ℓ, ψ)`` per link locates them (kept below :attr:`~symkin.tolerances.Tolerances.event_threshold`,
+in the box); a located configuration that :func:`symkin.analyze` classifies LIM with that link in
+``locked_links`` is a point of kind ``"LIM"`` (:attr:`symkin.kinds.Kind.LIM`) with its
+``locked_links``.  Not detected: links without a fixed pivot, spatial links, LIM sets meeting a slice
+(``F > 2``) along curves, points on the grid's outer ring.
 """

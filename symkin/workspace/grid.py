@@ -41,6 +41,7 @@ import numpy as np
 from symkin.kinds import Kind
 from symkin.errors import SymkinError
 from symkin.tolerances import Tolerances
+from symkin.workspace.lim_points import LimIndicator
 from symkin.workspace.quadtree import dips
 from symkin.workspace.system import NEWTON_TOL, MapSystem
 
@@ -163,6 +164,9 @@ class ModeGrid(ModeArrays):
     configurations: dict = field(default_factory=dict, repr=False)
     q: np.ndarray | None = field(default=None, repr=False)
     note: str = ""
+    #: the smallest relative LIM indicator over the pivoted links (:class:`symkin.workspace.lim_points.LimIndicator`),
+    #: NaN where not assembled; None when the mechanism has no such link
+    lim_indicator: np.ndarray | None = field(default=None, repr=False)
 
     def config(self, j: int, i: int) -> np.ndarray | None:
         """The configuration at grid point ``[j, i]`` when it was kept (None otherwise)."""
@@ -173,6 +177,22 @@ class ModeGrid(ModeArrays):
 
 
 # ---------------------------------------------------------------------- continuation
+def _minima(values: np.ndarray, solved: np.ndarray, j: np.ndarray, i: np.ndarray, region: np.ndarray) -> np.ndarray:
+    """Which points ``(j[k], i[k])`` have ``values`` at most those of both solved neighbours along x or along y
+    (in their region): :func:`symkin.workspace.lim_points.line_minima` while the grid is continued."""
+    ny, nx = values.shape
+    low = np.zeros(len(j), bool)
+    for (dj, di) in ((0, 1), (1, 0)):
+        line = solved[j, i].copy()
+        for s in (1, -1):
+            jn, in_ = j + s * dj, i + s * di
+            inside = (jn >= 0) & (jn < ny) & (in_ >= 0) & (in_ < nx)
+            jn, in_ = np.clip(jn, 0, ny - 1), np.clip(in_, 0, nx - 1)
+            line &= inside & (region[jn, in_] == region[j, i]) & solved[jn, in_] & (values[j, i] <= values[jn, in_])
+        low |= line
+    return low
+
+
 def _tangents(system: MapSystem, q: np.ndarray, a: np.ndarray, jac: np.ndarray | None = None) -> np.ndarray:
     """``∂q/∂a`` (N, nf, 2) at solved configurations ``q`` with axis values ``a`` (internal units).
 
@@ -303,6 +323,8 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
     d_in, d_out = dkp[0], dkp[1]
     signs = np.zeros(shape + (2,), np.int8)
     full_q = np.full(shape + (nf,), np.nan) if keep_configurations else None
+    lim_of = LimIndicator(ev)
+    lim = np.full(shape, np.nan) if lim_of else None
     kept: dict = {}
     branches: list = [[] for _ in regions]
     notes = [""] * len(regions)
@@ -327,6 +349,8 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
         types[jj, ii] = (res.im[sel] * 1 + res.is_dkp_input[sel] * 2 + res.is_dkp_output[sel] * 4).astype(np.int8)
         signs[jj, ii] = _signs(res, sel)
         status[jj, ii] = 1
+        if lim is not None:
+            lim[jj, ii] = lim_of.smallest(q)
         if full_q is not None:
             full_q[jj, ii] = q
         if keep is not None:
@@ -387,6 +411,8 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
             bracket |= inside & ((st == 2) | (st == 3) | other)
         # near-zero minima of |T|: the quadtree starts there (double zeros, curves narrower than a cell)
         bracket |= dips(dkp, status == 1, j, i, region=region)
+        if lim is not None:  # minima of the LIM indicator: refinement polishes them (lim_points)
+            bracket |= _minima(lim, status == 1, j, i, region)
         for k in np.flatnonzero(bracket):
             p = (int(j[k]), int(i[k]))
             kept[p] = points[p]
@@ -479,5 +505,6 @@ def continue_modes(system: MapSystem, xs: np.ndarray, ys: np.ndarray, regions: l
         local = {(j - j0, i - i0): q for (j, i), q in kept.items() if region[j, i] == r}
         br = tuple(((a[0] - j0, a[1] - i0), (b[0] - j0, b[1] - i0)) for a, b in branches[r])
         out.append(ModeGrid(seeds[r], status[sl] == 1, status[sl] == 3, im[sl], d_in[sl], d_out[sl], types[sl], br,
-                            local, None if full_q is None else full_q[sl], notes[r]))
+                            local, None if full_q is None else full_q[sl], notes[r],
+                            lim_indicator=None if lim is None else lim[sl]))
     return out

@@ -76,6 +76,13 @@ Algorithm
    then :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
    the constraints lose rank (:func:`symkin.workspace.im_points.locate_im`); the core decides
    whether it is IM (it is then reported).
+4b. **LIM points** (F ≥ 2) — at each grid node whose relative LIM indicator (the grid's
+   ``lim_indicator``: the smallest over the links turning about a fixed pivot) is a minimum along
+   a grid line, every pivoted link takes one batched Gauss–Newton polish towards
+   ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` (:meth:`LocusProblems.polish_lim_many`); a start converged on the slice, in the
+   box whose link indicator is at most :attr:`Tolerances.event_threshold` is reported as a point of
+   kind ``"LIM"`` when :func:`symkin.analyze` there says LIM with that link locked
+   (:mod:`symkin.workspace.lim_points`).
 5. **Dips, quadtree, double zeros** — a grid point whose ``|T|`` is a near-zero minimum along
    a grid line (:func:`symkin.workspace.quadtree.dips`) starts an adaptive subdivision of the
    cells around it (to :data:`~symkin.workspace.quadtree.DEPTH`; every dip of a kind not next
@@ -116,6 +123,7 @@ from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 from symkin.workspace.cusps import locate_cusp
 from symkin.workspace.im_points import im_candidates, locate_im_many
+from symkin.workspace.lim_points import LimIndicator, add_lim_point, line_minima, locate_lim_many
 from symkin.workspace.locate import locate_crossing, locate_crossings, locate_double_zero, locate_fold
 from symkin.workspace.locus_problems import KINDS, OTHER_KIND, LocusProblems, LocusSystem
 from symkin.workspace.refine_data import Curve, GridData, RefineStats, SingularPoint
@@ -200,6 +208,25 @@ def _found(found) -> np.ndarray:
     if found is None:
         raise NotConvergedError("crossing not located")
     return found[0]
+
+
+def _lim_points(pb: LocusProblems, sys_: LocusSystem, grid: GridData, scale, box_d, tol: Tolerances,
+                stats: RefineStats, points: list, mode) -> None:
+    """Step 4b: LIM points at the grid's LIM-indicator minima (:mod:`symkin.workspace.lim_points`)."""
+    if grid.lim_indicator is None:
+        return
+    indicator = LimIndicator(sys_.evaluators)
+    starts = []
+    for j, i in line_minima(grid.lim_indicator, grid.assembled):
+        qa = grid.config(j, i)
+        ya = qa / pb.scale if qa is not None else resolve_from_seed(pb, grid, scale, (j, i))
+        if ya is None:
+            stats.failed += 1
+            continue
+        starts.append(ya)
+    stats.lim_candidates += len(starts)
+    for y, link in locate_lim_many(pb, indicator, starts, box_d, tol, stats):  # one batch per link, screened
+        stats.lim_points += add_lim_point(points, pb, sys_, y, link, mode, scale, tol)
 
 
 def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAULT, box=None,
@@ -361,6 +388,7 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             continue
         stats.im_candidates += 1
         add_point(points, pb, sys_, y, mode, scale, tol, only_im=True)
+    _lim_points(pb, sys_, grid, scale, box_d, tol, stats, points, mode)
     stats.locate_evaluations += pb.counter.n - before
     interior = OTHER_KIND[boundary[0]]
     while seeds:

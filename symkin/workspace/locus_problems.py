@@ -352,6 +352,57 @@ class LocusProblems:
         out = gauss_newton_batch(fun, w0, tol=LOCUS_NEWTON_TOL, max_iterations=iterations, norm="2")
         return out.z[:, :nf]
 
+    def polish_lim_many(self, link, y0: np.ndarray, iterations: int) -> tuple[np.ndarray, np.ndarray]:
+        """Gauss–Newton towards a LIM configuration of the pivoted ``link`` from each row of ``y0`` (N, nf), one batch.
+
+        The system of :mod:`symkin.workspace.lim_points`: ``Φ_S(y)/ℓ = 0`` and
+        ``J_S(ℓy)ᵀ ψ + u(y) = 0`` in ``(y, ψ)``, ``J_S`` the core's independent rows and
+        ``u = (−r_y, r_x)/|r|`` the unit row of the link's angular rate at its farthest free
+        node (``r`` from the pivot; :func:`symkin.analysis.indicators.link_rate`), exact
+        derivatives by CasADi: square (``2 nf − F`` rows and unknowns), its roots the link's
+        isolated LIM configurations.  The held coordinates are not in it (with them the system
+        would be over-determined): a root counts only when it lies on the map's slice, its
+        residual of ``(Φ_S/ℓ, holds)`` within ten times Newton's tolerance (always when
+        ``F = 2``).  ``ψ`` starts at the least-squares solution at ``y0``.  One
+        :func:`symkin.curves.corrector.gauss_newton_batch`, at most ``iterations`` steps.
+        Returns ``(y, converged and on the slice)``.
+        """
+        y0 = np.atleast_2d(np.asarray(y0, float))
+        nf = self.system.nf
+        ev = self.system.evaluators
+        key = ("lim", link.name)
+        if key not in self._slopes:
+            y = ca.SX.sym("y", nf)
+            g = ca.substitute(self._g, self._y, y)[:nf - ev.mobility]  # the closure rows (the holds follow)
+            js = ev.symbolic_function("J")(self.scale * y)[1][list(ev.basis_rows), :]
+            psi = ca.SX.sym("psi", js.shape[0])
+            bx, by = (int(c) for c in link.columns[link.far])
+            rx, ry = self.scale * y[bx] - float(link.pivot[0]), self.scale * y[by] - float(link.pivot[1])
+            norm = ca.sqrt(rx * rx + ry * ry)
+            u = ca.SX.zeros(nf, 1)
+            u[bx], u[by] = -ry / norm, rx / norm
+            w = ca.vertcat(y, psi)
+            f = ca.vertcat(g, ca.mtimes(js.T, psi) + u)
+            self._slopes[key] = (_NumericCall(ca.Function(f"lim_{link.name}", [w], [f, ca.jacobian(f, w)])),
+                                 js.shape[0])
+        fn, ns = self._slopes[key]
+        m = nf - ev.mobility
+        r, jac = fn.many(np.hstack([y0, np.zeros((len(y0), ns))]))
+        a, b = jac[:, m:, nf:], r[:, m:]  # J_Sᵀ and u at ψ = 0
+        psi0 = -np.einsum("nij,nj->ni", np.linalg.pinv(a), b)
+
+        def fun(z, rows):
+            self.counter.n += len(rows)
+            return fn.many(z)
+
+        out = gauss_newton_batch(fun, np.hstack([y0, psi0]), tol=LOCUS_NEWTON_TOL, max_iterations=iterations,
+                                 norm="2")
+        y, ok = out.z[:, :nf], out.converged.copy()
+        if ok.any():
+            on_slice = np.linalg.norm(self._constraints.many(y[ok])[0], axis=1) <= 10 * LOCUS_NEWTON_TOL
+            ok[np.flatnonzero(ok)[~on_slice]] = False
+        return y, ok
+
     def degenerate(self, y) -> bool:
         """Whether the kernel's derivative at ``y`` is one-sided: a Givens pair ``(a, b) = (0, 0)``
         whose entries do not stay 0 on the solution surface ``(Φ_S/ℓ, holds) = 0`` through ``y``.

@@ -14,7 +14,8 @@ that module is installed (otherwise the map says so in :attr:`WorkspaceMap.notes
      "axes":   [{label, lo, hi, n}, {…}],
      "modes":  [{id, seed, assembled, rejected, branch_changes, note}],
      "curves": [{kind, mode, closed, points: [[x, y], …]}],
-     "points": [{kind, mode, at: [x, y], types}],   # kind: "IM", "meeting", "cusp", or the one type
+     "points": [{kind, mode, at: [x, y], types}],   # kind: "IM", "LIM", "meeting", "cusp", or the one type
+                                                    # (a "LIM" point also has "locked_links": [link, …])
      "counts": {"<mode id>": {"DKP-input": k, "DKP-output": k, "IM": k}},   # curves + points per kind
      "notes":  [...]}
 
@@ -22,7 +23,9 @@ Isolated points (``points``) are classified by the core (``types``); their ``kin
 at an IM configuration, ``"meeting"`` where a curve ends on another locus (two or more types),
 ``"cusp"`` where a traced curve's image in the axes turns back (its axis velocity vanishes while
 it moves in configuration space; :func:`symkin.workspace.loci.locate_cusp`; the curve goes on
-through it), else the one type of a curve's end.
+through it), ``"LIM"`` at an isolated configuration where a link turning about a fixed pivot cannot
+move for any motion (:mod:`symkin.workspace.lim_points`; the core's ``locked_links`` with it), else
+the one type of a curve's end.  ``counts`` has a ``"LIM"`` entry for a mode with such points.
 
 Axis values are in the user's units (angles in ``unit``).  :meth:`WorkspaceMap.save` writes
 an ``.npz`` (grid arrays per mode, curves, the header as JSON text; no pickles) that
@@ -77,10 +80,15 @@ class MapPoint:
     mode: int
     at: tuple[float, float]
     types: tuple[str, ...]
+    #: the core's locked links at a point of kind ``"LIM"`` (empty otherwise; then not in the JSON)
+    locked_links: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "mode": int(self.mode), "at": [float(v) for v in self.at],
-                "types": list(self.types)}
+        out = {"kind": self.kind, "mode": int(self.mode), "at": [float(v) for v in self.at],
+               "types": list(self.types)}
+        if self.locked_links:
+            out["locked_links"] = list(self.locked_links)
+        return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,7 +235,8 @@ def load_map(path) -> WorkspaceMap:
                                  q=files.get(f"mode{k}_q"), note=m.get("note", "")))
         curves = tuple(MapCurve(c["kind"], c["mode"], c["closed"], files[f"curve{k}_points"])
                        for k, c in enumerate(head["curves"]))
-        points = tuple(MapPoint(p["kind"], p["mode"], tuple(p["at"]), tuple(p["types"])) for p in head["points"])
+        points = tuple(MapPoint(p["kind"], p["mode"], tuple(p["at"]), tuple(p["types"]),
+                                tuple(p.get("locked_links", ()))) for p in head["points"])
         return WorkspaceMap(head["model"], axes, head["unit"],
                             tuple((h["label"], h["value"]) for h in head["hold"]),
                             tuple(modes), curves, points, head["tolerance"], tuple(head["notes"]))
@@ -251,11 +260,12 @@ def _refine(system, grid: ModeGrid, mode_id: int, xs, ys, tol: Tolerances):
     loci = _loci()
     data = loci.GridData(xs=xs, ys=ys, assembled=grid.assembled, dkp_input=grid.dkp_input,
                          dkp_output=grid.dkp_output, im_indicator=grid.im_indicator, q=grid.q,
-                         configuration=grid.config, seed=grid.seed_q)
+                         configuration=grid.config, seed=grid.seed_q, lim_indicator=grid.lim_indicator)
     out = loci.refine(system, data, mode_id, tol)
     curves, points = out[0], out[1]
     return ([MapCurve(c.kind, mode_id, bool(c.closed), np.asarray(c.points, float)) for c in curves],
-            [MapPoint(p.kind, mode_id, tuple(float(v) for v in p.at), tuple(p.types)) for p in points])
+            [MapPoint(p.kind, mode_id, tuple(float(v) for v in p.at), tuple(p.types), tuple(p.locked_links))
+             for p in points])
 
 
 def _same_mode(a: ModeGrid, b: ModeGrid) -> bool:

@@ -38,6 +38,7 @@ from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.tolerances import Tolerances
 from symkin.workspace.grid import ModeGrid, continue_mode, continue_modes
+from symkin.workspace.lim_points import LimIndicator
 from symkin.workspace.system import MapSystem, map_system
 
 __all__ = ["MapSpec", "TileResult", "DASK_EXTRA", "TILE", "tile_bounds", "coarse_seeds", "run_tile", "run_tiles",
@@ -132,6 +133,7 @@ class TileResult:
     branch_changes: tuple
     configurations: dict
     q: np.ndarray | None = None
+    lim_indicator: np.ndarray | None = None
 
 
 def run_tile(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, j0: int, i0: int, seeds: list,
@@ -170,6 +172,8 @@ def run_tiles(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, tiles: list, keep_c
         out = {"assembled": np.zeros(shape, bool), "rejected": np.zeros(shape, bool),
                "im_indicator": np.full(shape, np.nan), "dkp_input": np.full(shape, np.nan),
                "dkp_output": np.full(shape, np.nan), "types": np.zeros(shape, np.int8)}
+        if LimIndicator(system.evaluators):
+            out["lim_indicator"] = np.full(shape, np.nan)
         q_all = np.full(shape + (system.nf,), np.nan) if keep_configurations else None
         branches: list = []
         kept: dict = {}
@@ -206,8 +210,9 @@ def run_tiles(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, tiles: list, keep_c
             j0, i0 = tiles[t][0], tiles[t][2]
             out, q_all, branches, kept = state[t]
             new = g.assembled & ~out["assembled"]
-            for name in ("im_indicator", "dkp_input", "dkp_output", "types"):
-                out[name][new] = getattr(g, name)[new]
+            for name in ("im_indicator", "dkp_input", "dkp_output", "types", "lim_indicator"):
+                if name in out:
+                    out[name][new] = getattr(g, name)[new]
             if q_all is not None:
                 q_all[new] = g.q[new]
             out["rejected"] |= g.rejected & ~out["assembled"] & ~new
@@ -259,19 +264,24 @@ def _merge(results, shape: tuple, nf: int, keep_configurations: bool, seed_q: np
             "im_indicator": np.full(shape, np.nan), "dkp_input": np.full(shape, np.nan),
             "dkp_output": np.full(shape, np.nan), "types": np.zeros(shape, np.int8)}
     q = np.full(shape + (nf,), np.nan) if keep_configurations else None
+    lim = None
     branches: list = []
     kept: dict = {}
     for r in results:
         sl = (slice(r.j0, r.j1), slice(r.i0, r.i1))
         for name in grid:
             grid[name][sl] = getattr(r, name)
+        if r.lim_indicator is not None:
+            lim = np.full(shape, np.nan) if lim is None else lim
+            lim[sl] = r.lim_indicator
         branches += list(r.branch_changes)
         kept.update(r.configurations)
         if q is not None:
             q[sl] = r.q
     note = "" if grid["assembled"].any() else "the mode does not reach the box from its seed"
     return ModeGrid(np.asarray(seed_q, float), grid["assembled"], grid["rejected"], grid["im_indicator"],
-                    grid["dkp_input"], grid["dkp_output"], grid["types"], tuple(sorted(branches)), kept, q, note)
+                    grid["dkp_input"], grid["dkp_output"], grid["types"], tuple(sorted(branches)), kept, q, note,
+                    lim_indicator=lim)
 
 
 def tiled_mode(spec: MapSpec, xs: np.ndarray, ys: np.ndarray, seed_q: np.ndarray, tile: int = TILE,

@@ -32,6 +32,8 @@ class GridData:
     #: the mode's seed configuration: where no configuration was kept (an IM-indicator minimum
     #: of a grid without stored configurations), one is re-solved along assembled grid points from it
     seed: np.ndarray | None = None
+    #: the smallest relative LIM indicator over the pivoted links (:mod:`symkin.workspace.lim_points`), or None
+    lim_indicator: np.ndarray | None = None
 
     def config(self, j: int, i: int) -> np.ndarray | None:
         """The configuration at ``[j, i]``: from ``q`` when stored there, else from ``configuration``; or None."""
@@ -88,9 +90,14 @@ class SingularPoint:
     at: np.ndarray
     types: tuple[str, ...]
     configuration: np.ndarray = field(repr=False, default=None)
+    #: the core's locked links (a LIM point)
+    locked_links: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "mode": self.mode, "at": [float(v) for v in self.at], "types": list(self.types)}
+        out = {"kind": self.kind, "mode": self.mode, "at": [float(v) for v in self.at], "types": list(self.types)}
+        if self.locked_links:
+            out["locked_links"] = list(self.locked_links)
+        return out
 
 
 @dataclass
@@ -101,7 +108,9 @@ class RefineStats:
     from meeting points on boundary curves, ``duplicates`` brackets or seeds that lay on a
     curve already traced; ``dips`` grid dips subdivided, ``subdivided`` points the quadtree
     solved, ``double_zeros`` double zeros located; ``im_candidates`` IM-indicator minima refined to an
-    IM configuration, ``im_screened`` minima left after the batched screen; ``*_evaluations`` count
+    IM configuration, ``im_screened`` minima left after the batched screen; ``lim_candidates`` LIM-indicator minima polished,
+    ``lim_screened`` (start, link) pairs left after the LIM screen, ``lim_points`` LIM points recorded;
+    ``*_evaluations`` count
     residual-and-Jacobian evaluations.
     """
 
@@ -111,6 +120,9 @@ class RefineStats:
     seeded: int = 0
     im_candidates: int = 0
     im_screened: int = 0
+    lim_candidates: int = 0
+    lim_screened: int = 0
+    lim_points: int = 0
     duplicates: int = 0
     failed: int = 0
     locate_evaluations: int = 0
