@@ -37,9 +37,11 @@ and bifurcations get the second-order branch analysis of :mod:`symkin.paths.bran
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
+import casadi as ca
 import numpy as np
 
 from symkin.analysis import indicators
@@ -782,6 +784,40 @@ def curve_rows_cover(curve: MechanismCurve) -> bool:
             and not any("rigidity" in owner for owner in curve.evaluators.row_owners))
 
 
+class _EventRows:
+    """One SX Function ``q ↦ [vec J; vec inputs; vec outputs; vec platform]``, called through buffers.
+
+    The evaluators' ``J`` and ``parameters`` in one call through CasADi's buffer interface
+    (a plain call and its conversions cost tens of µs, more than the NumPy core's rows).
+    """
+
+    def __init__(self, ev):
+        q = ca.SX.sym("q", ev.nf)
+        blocks = [ev.symbolic_function("J")(q)[0], *ev.symbolic_function("parameters")(q)]
+        self.function = ca.Function("event_rows", [q], [ca.vertcat(*(ca.vec(b) for b in blocks))], {"cse": True})
+        self.shapes = tuple(b.shape for b in blocks)
+        self._q, self._out = np.zeros(ev.nf), np.zeros(self.function.numel_out(0))
+        self._buf, self._trig = self.function.buffer()
+        self._buf.set_arg(0, memoryview(self._q))
+        self._buf.set_res(0, memoryview(self._out))
+
+    def __call__(self, q: np.ndarray) -> list[np.ndarray]:
+        """``J`` (m, D), inputs, outputs and platform rows (k, D) at ``q`` (new arrays)."""
+        self._q[:] = q
+        self._trig()
+        out, start = [], 0
+        for rows, cols in self.shapes:  # CasADi is column-major
+            out.append(self._out[start: start + rows * cols].reshape(cols, rows).T.copy())
+            start += rows * cols
+        return out
+
+
+@lru_cache(maxsize=64)
+def _event_rows(ev) -> _EventRows:
+    """The :class:`_EventRows` of an evaluators object (built once)."""
+    return _EventRows(ev)
+
+
 def curve_rows(curve: MechanismCurve, y: np.ndarray) -> ConfigurationRows:
     """The rows at ``y`` from the curve's evaluators (``J`` and ``parameters`` at ``q = ℓ y``).
 
@@ -791,9 +827,7 @@ def curve_rows(curve: MechanismCurve, y: np.ndarray) -> ConfigurationRows:
     """
     mech = curve.mech
     ev = curve.evaluators
-    q = curve.q_of(y)
-    j = np.array(ev.functions["J"](q)[0])
-    pin, pout, ppf = (np.array(v).reshape(-1, j.shape[1]) for v in ev.functions["parameters"](q))
+    j, pin, pout, ppf = _event_rows(ev)(curve.q_of(y))
     given = {tuple(mech.io_parameters): (np.vstack([pin, pout]), ev.input_labels + ev.output_labels)}
     if mech.platform is not None:
         given[tuple(platform_twist(mech)[0])] = (ppf, ev.platform_labels)
