@@ -33,7 +33,7 @@ from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels,
 from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["MotionSpace", "motion_space", "motion_space_of", "ConfigurationRows", "model_rows"]
+__all__ = ["ConfigurationRows", "MotionSpace", "model_rows", "motion_space", "motion_space_of"]
 
 
 @dataclass(frozen=True, eq=False)

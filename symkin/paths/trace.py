@@ -37,8 +37,8 @@ and bifurcations get the second-order branch analysis of :mod:`symkin.paths.bran
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from typing import Callable
 
 import casadi as ca

@@ -15,7 +15,6 @@ import math
 import numpy as np
 import pytest
 
-import symkin.paths.trace
 from symkin.analysis.classification import analyze, classify
 from symkin.errors import SymkinError
 from symkin.model.catalogue import get
@@ -34,16 +33,7 @@ SLOW = {"papers_examples/fig12_3rsr_b.toml"}
 RELATION_TOL = 1e-10
 
 
-@pytest.fixture(autouse=True)
-def _in_process_corrector(monkeypatch):
-    make_curve = symkin.paths.trace.make_curve
-
-    def in_process(*args, **kwargs):
-        curve = make_curve(*args, **kwargs)
-        curve.generated = "vm"
-        return curve
-
-    monkeypatch.setattr(symkin.paths.trace, "make_curve", in_process)
+pytestmark = pytest.mark.usefixtures("in_process_corrector")
 
 
 def _path(mech: Mechanism):
