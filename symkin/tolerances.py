@@ -128,4 +128,5 @@ class Tolerances:
         return replace(self, rank=float(rank))
 
 
+#: the default tolerances (every field at its documented default)
 DEFAULT = Tolerances()

@@ -169,6 +169,11 @@ ALLOWED_LITERALS: dict[str, dict[str, tuple[int, str]]] = {
     "symkin/solutions/system.py": {"1e-300": (1, _GUARD)},
     "symkin/symbolic/conditions.py": {"1e-300": (1, _GUARD)},
     "symkin/symbolic/loci.py": {"1e-9": (2, "a real root of a univariate elimination (imaginary part, residual)")},
+    "symkin/symbolic/real_points.py": {"1e-9": (1, "ZERO: a polynomial's value at a numerical critical point, "
+                                                   "relative to its terms (real points of a locus factor)"),
+                                       "1e-6": (1, "ROOT: a companion-matrix root of a resultant is real / a "
+                                                   "gradient vanishes (about the square root of the rounding)"),
+                                       "1e-300": (1, _GUARD)},
     "symkin/symbolic/readable_forms.py": {"1e-300": (1, _GUARD), "1e-9": (3, _IDENTITY), "1e-12": (1, _IDENTITY)},
     "symkin/symbolic/rows.py": {"1e-12": (1, _EXACT)},
     "symkin/symbolic/symbols.py": {"1e-300": (1, _GUARD), "1e-13": (1, _EXACT), "1e-12": (1, _EXACT)},

@@ -70,6 +70,8 @@ def accepted_labels(mech: Mechanism) -> dict[str, tuple[str, ...]]:
     Keys: ``"inputs"`` and ``"outputs"`` (the model's parameter labels that can drive a
     path), ``"rotation"`` (planar: ``rotation:<link>`` for every moving link), ``"slide"``
     (``slide:<slider>``) and ``"velocity"`` (``velocity:<node>.<axis>`` for every free node).
+    The joint rates of a model written by its joints (``joint:R1``) are
+    ``mech.joint_rates``.
 
     Examples
     --------
@@ -115,6 +117,9 @@ def parse_label(mech: Mechanism, label: str, what: str = "input",
             pass
     if kind == "velocity" and target in mech.free_nodes and comp in AXES[: mech.dim]:
         return coordinate_labels(mech, [Parameter("velocity", (target,), component=comp)])[0]
+    for name, p in mech.joint_rates:
+        if name == label:
+            return coordinate_labels(mech, [p])[0]
     raise SymkinError(f"unknown {what} {label!r}; {accepted_text(mech, lead)}")
 
 
@@ -130,6 +135,9 @@ def accepted_text(mech: Mechanism, lead: str = "a path can be driven by") -> str
         parts.append(f"slide:<slider> ({', '.join(a['slide'])})")
     if a["velocity"]:
         parts.append(f"velocity:<node>.<{'|'.join(AXES[: mech.dim])}> for a free node ({', '.join(a['velocity'])})")
+    joints = [name for name, _ in mech.joint_rates if name not in a["inputs"]]
+    if joints:
+        parts.append(f"the joints' rates ({', '.join(joints)})")
     return f"{lead} " + "; ".join(parts)
 
 

@@ -283,6 +283,11 @@ class Mechanism:
     platform: str | None = None
     platform_dof: int | None = None
     description: str = field(default="", compare=False)
+    #: the joints the model was written with (:mod:`symkin.model.joints`), as given; the
+    #: fields above hold their node form, which is what every stage analyses
+    joints: tuple = field(default=(), compare=False)
+    #: ``(label, Parameter)`` of every joint rate an existing parameter expresses (``joint:R1``)
+    joint_rates: tuple = field(default=(), compare=False)
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -373,7 +378,10 @@ class Mechanism:
 
         return replace(self, nodes=tuple((n, place(x)) for n, x in self.nodes), sliders=sliders,
                        inputs=tuple(param(p) for p in self.inputs),
-                       outputs=tuple(param(p) for p in self.outputs))
+                       outputs=tuple(param(p) for p in self.outputs),
+                       joint_rates=tuple((lab, param(p)) for lab, p in self.joint_rates),
+                       joints=tuple(replace(j, at=place(j.at), axis=j.axis and turn(j.axis),
+                                            axis2=j.axis2 and turn(j.axis2)) for j in self.joints))
 
     # ------------------------------------------------------------------ queries
     @cached_property

@@ -13,6 +13,7 @@ from itertools import product
 from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
+from symkin.model.joints import Limits, compile_joints
 from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider, length_scale
 from symkin.tolerances import DEFAULT
 
@@ -20,7 +21,7 @@ __all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS"
            "MIN_LENGTH"]
 
 TOP_LEVEL_KEYS = ("name", "description", "dim", "fixed", "mobility", "inputs", "outputs",
-                  "platform", "platform_dof", "nodes", "links", "sliders")
+                  "platform", "platform_dof", "nodes", "links", "sliders", "joints")
 PARAMETER_KINDS = ("rotation", "slide", "velocity", "twist", "joint")
 PARAMETER_KEYS = PARAMETER_KINDS + ("axis", "component", "label")
 SLIDER_KEYS = ("id", "node", "point", "direction", "normal", "line", "link")
@@ -150,6 +151,15 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
         out.add("dim", f"must be 2 (planar) or 3 (spatial), got {_short(dim)}")
         dim = None
 
+    joints, joint_rates = (), ()
+    if "joints" in data:  # compiled to nodes, links and sliders, then checked as a node model
+        if dim is None:
+            raise ModelError(out.problems, source)
+        compiled = compile_joints(data, dim, Limits(tolerances.geometry, COORDINATE_LIMIT, MIN_LENGTH))
+        if compiled.problems:
+            raise ModelError(out.problems + list(compiled.problems), source)
+        data, joints, joint_rates = compiled.data, compiled.joints, compiled.rates
+
     nodes = _parse_nodes(data.get("nodes"), dim, out)
     node_set = set(nodes)
     links = _parse_links(data.get("links"), node_set, out)
@@ -210,7 +220,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     return Mechanism(name=name, dim=dim, nodes=tuple(nodes.items()), links=tuple(links.items()),
                      fixed=fixed, sliders=tuple(sliders), inputs=tuple(inputs), outputs=tuple(outputs),
                      mobility=mobility, platform=platform, platform_dof=platform_dof,
-                     description=description)
+                     description=description, joints=joints, joint_rates=joint_rates)
 
 
 # ---------------------------------------------------------------------- parts

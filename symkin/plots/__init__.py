@@ -12,7 +12,7 @@ and returns the Axes (networkx ``draw`` style):
   path, one small panel per event, same axes limits;
 * :func:`save_path_figures` — indicators, traces and the event panels in one PNG
   (``symkin path ... --plot FILE.png``);
-* :func:`plot_map` — one indicator of one working mode of a singularity map (log |IM|, signed
+* :func:`plot_map` — one indicator of one working mode of a singularity map (``log |IM|``, signed
   DKP test functions) with the traced curves and the mode's workspace boundary (Figs. 14, 16);
 * :func:`plot_im_surface` — the IM indicator of a mode as a 3-D surface (Fig. 15);
 * :func:`plot_seed` — the mechanism at a mode's seed configuration, in its workspace;

@@ -4,7 +4,7 @@ surface of the IM indicator.
 
 Every function reads a :class:`symkin.workspace.maps.WorkspaceMap` (and, to draw the
 mechanism, the :class:`~symkin.model.mechanism.Mechanism` it was built from) and draws it;
-nothing is computed here but |values|, colour limits and the seed's nodal coordinates.
+nothing is computed here but ``|values|``, colour limits and the seed's nodal coordinates.
 
 * :func:`plot_map` — one indicator of one mode: the IM indicator ``λ_{F+1}`` (§V) on a log
   scale of its absolute value, the signed DKP-input / DKP-output test functions (the values
@@ -43,7 +43,7 @@ INDICATORS = {
     "dkp_input": ("DKP-input test (signed)", "signed"),
     "dkp_output": ("DKP-output test (signed)", "signed"),
 }
-#: colour maps: sequential for |IM|, diverging (zero = white) for the signed DKP functions
+#: colour maps: sequential for ``|IM|``, diverging (zero = white) for the signed DKP functions
 CMAPS = {"log": "viridis", "signed": "PuOr_r"}
 #: line style per curve kind (colours from the path plots, :data:`symkin.plots.paths.STYLE`)
 LINESTYLES = {Kind.DKP_INPUT: "-", Kind.DKP_OUTPUT: (0, (5, 2)), Kind.IM: ":"}

@@ -74,7 +74,9 @@ from symkin.model.labels import CoordinateLabel, parse_hold, parse_label
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.symbolic.conditions import DerivationTimeout
-from symkin.symbolic.symbols import coordinate_symbol
+from symkin.symbolic.real_points import isolated_real_points
+from symkin.symbolic.snapping import ModelSnap, snap_model
+from symkin.symbolic.symbols import coordinate_symbol, exact, length_symbol, offset_symbol
 from symkin.tolerances import Tolerances
 
 #: the lead of the list of accepted labels in a bad-label message
@@ -160,6 +162,7 @@ class Loci:
     loci: tuple[Locus, ...]
     skipped: tuple[str, ...] = ()
     model: str = field(default="")
+    snap: ModelSnap | None = None
 
     def __getitem__(self, kind: str) -> Locus:
         for locus in self.loci:
@@ -170,12 +173,15 @@ class Loci:
     def as_dict(self) -> dict:
         """The JSON of ``symkin conditions --in … --json``."""
         return {"variables": [s.name for s in self.variables], "labels": list(self.labels),
-                "holds": list(self.holds), "loci": [l.as_dict() for l in self.loci], "skipped": list(self.skipped)}
+                "holds": list(self.holds), "loci": [l.as_dict() for l in self.loci], "skipped": list(self.skipped),
+                "snapping": self.snap.as_dict() if self.snap is not None else None}
 
     def __str__(self) -> str:
         x, y = self.variables
         lines = [f"singularity loci of {self.model} in ({x}, {y}) = ({self.labels[0]}, {self.labels[1]})"
                  + (f", holding {', '.join(self.holds)}" if self.holds else "")]
+        if self.snap is not None and self.snap.snapped:
+            lines.append(self.snap.note())
         for locus in self.loci:
             lines.append("")
             lines.append(f"{locus.kind} locus — eliminated in {locus.seconds:.3g} s")
@@ -246,8 +252,10 @@ def _q(v: float) -> sp.Rational:
     return sp.Rational(repr(float(v)))
 
 
-def _nodes_exact(mech: Mechanism) -> dict[str, tuple[sp.Rational, ...]]:
-    return {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
+def _nodes_exact(mech: Mechanism, snap: ModelSnap) -> dict[str, tuple[sp.Rational, ...]]:
+    """Pivots as snapped (:mod:`symkin.symbolic.snapping`), free nodes at their face value (used
+    only to choose frames and to check the variables numerically, never in an equation)."""
+    return {n: snap.pivots.get(n) or tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
 
 
 def _dot(a, b):
@@ -279,6 +287,8 @@ class _System:
     x0: dict     # node -> exact model coordinates
     equations: list  # list of (expr, owner)
     frames: dict  # link -> (n0, n1) the pair whose distance equation is listed, with its index
+    snap: ModelSnap  # the exact (snapped) numbers of the model
+    affine: dict = field(default_factory=dict)  # (link, node) -> exact coordinates in the link's frame
 
 
 def closure_polynomials(mech: Mechanism) -> list[tuple[sp.Expr, str]]:
@@ -298,9 +308,11 @@ def closure_polynomials(mech: Mechanism) -> list[tuple[sp.Expr, str]]:
     return [(e, o) for e, o in _build(mech).equations]
 
 
-def _build(mech: Mechanism) -> _System:
+def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
+    snap = snap_model(mech) if snap is None else snap
     fixed = set(mech.fixed)
-    x0 = _nodes_exact(mech)
+    x0 = _nodes_exact(mech, snap)
+    affine: dict = {}
     coord = {n: (x0[n] if n in fixed else tuple(coordinate_symbol(AXES[a], n) for a in range(mech.dim)))
              for n in mech.node_names}
     eqs: list = []
@@ -312,7 +324,7 @@ def _build(mech: Mechanism) -> _System:
             max(ns, key=lambda n: _dot(_sub(x0[n], x0[n0]), _sub(x0[n], x0[n0])))
         e, e0 = _sub(coord[n1], coord[n0]), _sub(x0[n1], x0[n0])
         frames[name] = (n0, n1, len(eqs))
-        eqs.append((_dot(e, e) - _dot(e0, e0), f"link {name} ({n0}-{n1})"))
+        eqs.append((_dot(e, e) - snap.squared_length(name, n0, n1), f"link {name} ({n0}-{n1})"))
         others = [n for n in ns if n not in (n0, n1)]
         if not others:
             continue
@@ -326,15 +338,18 @@ def _build(mech: Mechanism) -> _System:
                 basis, basis0 = [e], [e0]
             else:
                 f, f0 = _sub(coord[off], coord[n0]), _sub(x0[off], x0[n0])
-                eqs.append((_dot(f, f) - _dot(f0, f0), f"link {name} ({n0}-{off})"))
-                g, g0 = _sub(coord[off], coord[n1]), _sub(x0[off], x0[n1])
-                eqs.append((_dot(g, g) - _dot(g0, g0), f"link {name} ({n1}-{off})"))
+                eqs.append((_dot(f, f) - snap.squared_length(name, n0, off), f"link {name} ({n0}-{off})"))
+                g = _sub(coord[off], coord[n1])
+                eqs.append((_dot(g, g) - snap.squared_length(name, n1, off), f"link {name} ({n1}-{off})"))
                 basis, basis0 = [e, f, _cross3(e, f)], [e0, f0, c0]
                 others = [n for n in others if n != off]
         m0 = sp.Matrix([list(b) for b in basis0]).T
         for m in others:
             d0 = sp.Matrix(_sub(x0[m], x0[n0]))
-            coef = (m0.T * m0).LUsolve(m0.T * d0)  # exact affine coordinates in the frame
+            frame = math.sqrt(float(_dot(e0, e0)))
+            coef = [snap.number(float(v), f"coordinate {k + 1} of node {m} in the frame of {name}", frame)
+                    for k, v in enumerate((m0.T * m0).LUsolve(m0.T * d0))]  # affine coordinates, snapped
+            affine[(name, m)] = tuple(coef)
             target = tuple(coord[n0][a] + sum(coef[k] * basis[k][a] for k in range(len(basis))) for a in range(dim))
             for a in range(dim):
                 eqs.append((coord[m][a] - target[a], f"link {name} (node {m} in its frame)"))
@@ -353,12 +368,12 @@ def _build(mech: Mechanism) -> _System:
                 for n in (n1, _cross3(e, n1)):
                     eqs.append((_dot(n, r), f"slider {s.id}"))
             continue
-        point = tuple(_q(v) for v in s.point) if s.point is not None else x0[s.node]
+        point = _slider_point(snap, s, x0)
         r = _sub(p, point)
         if s.kind == "plane":
-            eqs.append((_dot(tuple(_q(v) for v in s.normal), r), f"slider {s.id}"))
+            eqs.append((_dot(_slider_vector(snap, s, s.normal, "normal"), r), f"slider {s.id}"))
             continue
-        d = tuple(_q(v) for v in s.direction)
+        d = _slider_vector(snap, s, s.direction, "direction")
         if dim == 2:
             eqs.append((d[0] * r[1] - d[1] * r[0], f"slider {s.id}"))
         else:
@@ -368,7 +383,20 @@ def _build(mech: Mechanism) -> _System:
             for n in (n1, _cross3(d, n1)):
                 eqs.append((_dot(n, r), f"slider {s.id}"))
     eqs = [(sp.expand(e), o) for e, o in eqs if sp.expand(e) != 0]
-    return _System(mech, coord, x0, eqs, frames)
+    return _System(mech, coord, x0, eqs, frames, snap, affine)
+
+
+def _slider_point(snap: ModelSnap, s, x0) -> tuple:
+    if s.point is None:
+        return x0[s.node]
+    return tuple(snap.number(v, f"coordinate {AXES[a]} of the point of slider {s.id}") for a, v in enumerate(s.point))
+
+
+def _slider_vector(snap: ModelSnap, s, vec, what: str) -> tuple:
+    """A slider's direction or normal, snapped relative to its norm (it only gives a direction)."""
+    norm = math.sqrt(sum(float(v) ** 2 for v in vec))
+    return tuple(snap.number(v, f"{what} {AXES[a]} of slider {s.id}", snap.mech.length_scale / norm)
+                 for a, v in enumerate(vec))
 
 
 # ====================================================================== variables and holds
@@ -392,7 +420,11 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
     owner = f"{'hold' if hold else 'variable'} {c.label}"
     if p.kind == "velocity":
         node = p.target[0]
-        v = sys.x0[node][c.axis] if value is None else (value if isinstance(value, sp.Basic) else _q(value))
+        if value is None:
+            v = sys.x0[node][c.axis] if node in sys.snap.pivots else \
+                sys.snap.number(float(sys.x0[node][c.axis]), f"held value of {c.label}")
+        else:
+            v = value if isinstance(value, sp.Basic) else _q(value)
         return [(sys.coord[node][c.axis] - v, owner)]
     if p.kind == "rotation" and mech.dim == 2:
         link = p.target[0]
@@ -401,13 +433,15 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
         e0 = _sub(sys.x0[ns[1]], sys.x0[ns[0]])
         if hold:
             if value is None:
-                target = e0
+                target = tuple(sys.snap.number(float(v), f"held {AXES[a]} of link {link}'s vector")
+                               for a, v in enumerate(e0))
             else:
                 ll = math.sqrt(float(_dot(e0, e0)))
                 target = (_q(ll * math.cos(value)), _q(ll * math.sin(value)))
                 sys.equations = [(eq, o) for eq, o in sys.equations if o != f"link {link} ({ns[0]}-{ns[1]})"]
             return [(e[0] - target[0], owner), (e[1] - target[1], owner)]
-        ll = _sqrt_rational(_dot(e0, e0), f"{c.label} as a locus variable (link {link})")
+        ll = _sqrt_rational(sys.snap.squared_length(link, ns[0], ns[1]),
+                            f"{c.label} as a locus variable (link {link})")
         t = value  # the direction fixes the link's vector: its distance equation is implied
         sys.equations = [(eq, o) for eq, o in sys.equations if o != f"link {link} ({ns[0]}-{ns[1]})"]
         return [(e[0] * (1 + t ** 2) - ll * (1 - t ** 2), owner), (e[1] * (1 + t ** 2) - 2 * ll * t, owner)]
@@ -418,15 +452,16 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
             e = _sub(sys.coord[b], sys.coord[a])
             e0 = _sub(sys.x0[b], sys.x0[a])
             along = _dot(_sub(sys.coord[s.node], sys.coord[a]), e)
-            ll = _sqrt_rational(_dot(e0, e0), f"{c.label} (line {a}-{b})")
+            ll = _sqrt_rational(sys.snap.squared_length(s.link, a, b) if s.link else _dot(e0, e0),
+                                f"{c.label} (line {a}-{b})")
             if value is None:
-                value = _dot(_sub(sys.x0[s.node], sys.x0[a]), e0) / ll
+                value = sys.snap.number(float(_dot(_sub(sys.x0[s.node], sys.x0[a]), e0) / ll), f"held value of {c.label}")
             return [(along - ll * (value if isinstance(value, sp.Basic) else _q(value)), owner)]
         if s.direction is None:
             raise LociError(f"{c.label}: slider {s.id} lies on a plane; a slide needs a line")
-        d = tuple(_q(v) for v in s.direction)
+        d = _slider_vector(sys.snap, s, s.direction, "direction")
         dl = _sqrt_rational(_dot(d, d), f"{c.label} (direction of slider {s.id})")
-        point = tuple(_q(v) for v in s.point) if s.point is not None else sys.x0[s.node]
+        point = _slider_point(sys.snap, s, sys.x0)
         if value is None:
             value = _dot(_sub(sys.x0[s.node], point), d) / dl
         return [(_dot(_sub(sys.coord[s.node], point), d) - dl * (value if isinstance(value, sp.Basic) else _q(value)),
@@ -444,11 +479,12 @@ def _to_nodal(expr: sp.Expr, sm, sys: _System) -> sp.Expr:
     expr = sm.substitute_design(expr)
     if sm.coordinates == "angles":
         expr = sp.expand(sp.expand_trig(expr))
+        expr = sp.expand(expr.xreplace(_design_values(sys)))
         subs = {}
         for name, ns in mech.links:
             e = _sub(sys.coord[ns[1]], sys.coord[ns[0]])
             e0 = _sub(sys.x0[ns[1]], sys.x0[ns[0]])
-            ll = sp.sqrt(_dot(e0, e0))
+            ll = sys.snap.length(name, ns[0], ns[1])
             th = sm.symbol(f"theta_{name}")
             subs[sp.cos(th)] = e[0] / ll
             subs[sp.sin(th)] = e[1] / ll
@@ -457,12 +493,36 @@ def _to_nodal(expr: sp.Expr, sm, sys: _System) -> sp.Expr:
                 a, b = s.line
                 e = _sub(sys.coord[b], sys.coord[a])
                 e0 = _sub(sys.x0[b], sys.x0[a])
-                subs[sm.symbol(f"s_{s.id}")] = _dot(_sub(sys.coord[s.node], sys.coord[a]), e) / sp.sqrt(_dot(e0, e0))
+                ll = sys.snap.length(s.link, a, b) if s.link else sp.sqrt(_dot(e0, e0))
+                subs[sm.symbol(f"s_{s.id}")] = _dot(_sub(sys.coord[s.node], sys.coord[a]), e) / ll
         expr = expr.xreplace(subs)
     else:
         expr = expr.xreplace({coordinate_symbol(AXES[a], n): sys.x0[n][a] for n in mech.fixed
                               for a in range(mech.dim)})
     return _rational_primitive(sp.expand(expr), what="a condition factor")
+
+
+def _design_values(sys: _System) -> dict:
+    """The design symbols of a planar angle model (``l_<link>``, ``l_<link>_<i>_<j>``, and
+    ``cos``, ``sin`` of ``beta_<link>_<i>_<j>``) at the snapped numbers the closure uses: a pair
+    ``i → j`` of a body is ``Δa e + Δb e⊥`` in its frame (``e`` = first → second node, snapped
+    length ``l``; ``Δa``, ``Δb`` of the snapped affine coordinates), so ``l_ij = l √(Δa² + Δb²)``
+    and ``β_ij = atan2(Δb, Δa)``."""
+    out: dict = {}
+    for name, ns in sys.mech.links:
+        l01 = sys.snap.length(name, ns[0], ns[1])
+        out[length_symbol(name)] = l01
+        frame = {ns[0]: (0, 0), ns[1]: (1, 0)}
+        frame.update({m: sys.affine[(name, m)] for m in ns[2:] if (name, m) in sys.affine})
+        for i, j in itertools.combinations(ns, 2):
+            if (i, j) == (ns[0], ns[1]) or i not in frame or j not in frame:
+                continue
+            da, db = frame[j][0] - frame[i][0], frame[j][1] - frame[i][1]
+            norm = sp.sqrt(da ** 2 + db ** 2)
+            out[length_symbol(name, i, j)] = l01 * norm
+            beta = offset_symbol(name, i, j)
+            out[sp.cos(beta)], out[sp.sin(beta)] = da / norm, db / norm
+    return out
 
 
 def _rational_primitive(expr: sp.Expr, what: str) -> sp.Expr:
@@ -684,18 +744,27 @@ def _branch_count(eqs, idx) -> int:
 
 
 # ====================================================================== meanings
-def _length_names(mech: Mechanism, x0: dict) -> list[tuple[sp.Expr, str]]:
+def _length_names(sys: _System) -> list[tuple[sp.Expr, str]]:
+    """Every length of a link's node pair (snapped, as the closure has it) with its symbol's name."""
     out = []
-    for name, ns in mech.links:
+    planar = _design_values(sys) if sys.mech.dim == 2 else {}
+    for name, ns in sys.mech.links:
         for i, j in itertools.combinations(ns, 2):
-            d = _sub(x0[j], x0[i])
-            label = f"l_{name}" if (i, j) == (ns[0], ns[1]) else f"l_{name}_{i}_{j}"
-            out.append((sp.sqrt(_dot(d, d)), label))
+            sym = length_symbol(name) if (i, j) == (ns[0], ns[1]) else length_symbol(name, i, j)
+            if sym in planar:
+                value = planar[sym]
+            elif (i, j) == (ns[0], ns[1]) or len(ns) == 2:
+                value = sys.snap.length(name, i, j)
+            else:
+                d = _sub(sys.x0[j], sys.x0[i])
+                value = sp.sqrt(_dot(d, d))
+            out.append((value, sym.name))
     return out
 
 
-def _meaning(f: sp.Expr, xs, mech: Mechanism, x0: dict) -> tuple[str, bool]:
+def _meaning(f: sp.Expr, xs, sys: _System) -> tuple[str, bool]:
     """What the curve ``f(x, y) = 0`` is, and whether it is trivial (no real point)."""
+    mech, x0 = sys.mech, sys.x0
     x, y = xs
     p = sp.Poly(f, x, y)
     d = p.total_degree()
@@ -725,16 +794,30 @@ def _meaning(f: sp.Expr, xs, mech: Mechanism, x0: dict) -> tuple[str, bool]:
                 return f"the point {where} (a circle of radius 0: one real point)", False
             r = sp.sqrt(r2)
             centre = where.split()[1] if where.startswith("pivot ") else None
-            return f"circle centred at {where}, radius {_radius_text(r, mech, x0, centre)}", False
+            return f"circle centred at {where}, radius {_radius_text(r, sys, centre)}", False
         disc = b ** 2 - 4 * a * cc
         kind = "ellipse" if disc < 0 else ("hyperbola" if disc > 0 else "parabola")
-        return f"conic ({kind})", False
+        return _points_only(f, xs, f"conic ({kind})", mech, x0)
     top = sp.Add(*[c[m] * x ** m[0] * y ** m[1] for m in c if sum(m) == d])
     if d % 2 == 0 and sp.expand(top - top.coeff(x, d) * (x ** 2 + y ** 2) ** (d // 2)) == 0:
         k = d // 2
         name = {3: "tricircular sextic (the class of Watt's curve)"}.get(k, f"{k}-circular curve of degree {d}")
+        return _points_only(f, xs, name, mech, x0)
+    return _points_only(f, xs, f"degree-{d} curve", mech, x0)
+
+
+def _points_only(f, xs, name: str, mech, x0) -> tuple[str, bool]:
+    """``name``, unless the factor has no real curve: then "no real point" (trivial) or its
+    isolated real points, as a circle of radius 0 is named (:mod:`symkin.symbolic.real_points`)."""
+    points = isolated_real_points(f, xs)
+    if points is None:
         return name, False
-    return f"degree-{d} curve", False
+    if not points:
+        return f"{name} with no real point", True
+    where = [_node_at(mech, x0, (exact(px), exact(py)), xs) for px, py in points]
+    if len(where) == 1:
+        return f"the point {where[0]} (a {name} with one real point)", False
+    return f"the {len(where)} points {', '.join(where)} (a {name} with isolated real points only)", False
 
 
 def _num(v) -> str:
@@ -755,12 +838,12 @@ def _node_at(mech, x0, point, xs) -> str:
     return txt
 
 
-def _radius_text(r, mech, x0, centre: str | None = None) -> str:
+def _radius_text(r, sys: _System, centre: str | None = None) -> str:
     """``"3 = l_crank1 + l_distal1"``: the radius as one length, or the sum or difference of
     two lengths of links in a chain from ``centre`` (a node) when there is one."""
     out = _num(r)
-    lengths = _length_names(mech, x0)
-    links = dict(mech.links)
+    lengths = _length_names(sys)
+    links = dict(sys.mech.links)
 
     def score(pair):
         (_, n1), (_, n2) = pair
@@ -786,7 +869,7 @@ def _radius_text(r, mech, x0, centre: str | None = None) -> str:
 
 
 # ====================================================================== the entry point
-def _factors(poly: sp.Expr, xs, mech, x0) -> tuple[list, list]:
+def _factors(poly: sp.Expr, xs, sys: _System) -> tuple[list, list]:
     geometric, trivial = [], []
     _, fl = sp.factor_list(sp.Poly(poly, *xs, domain="QQ"))
     for f, m in fl:
@@ -794,7 +877,7 @@ def _factors(poly: sp.Expr, xs, mech, x0) -> tuple[list, list]:
         lc = sp.Poly(expr, *xs).LC()
         if lc < 0:
             expr = sp.expand(-expr)
-        meaning, is_trivial = _meaning(expr, xs, mech, x0)
+        meaning, is_trivial = _meaning(expr, xs, sys)
         item = LocusFactor(expr, int(sp.Poly(expr, *xs).total_degree()), meaning, int(m), is_trivial)
         (trivial if is_trivial else geometric).append(item)
     order = (lambda f: (f.degree, sp.default_sort_key(f.polynomial)))
@@ -872,7 +955,7 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
     if len(held) != f - 2:
         raise SymkinError(f"{mech.name}: F = {f}, so two variables need {f - 2} held coordinate(s) (--hold LABEL); "
                           f"{len(held)} given")
-    sys = _build(mech)
+    sys = _build(mech, snap_model(mech, tol))
     xs = tuple(_variable_symbol(mech, c) for c in coords)
     extra = []
     for c, s in zip(coords, xs):
@@ -888,7 +971,8 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
     remaining = set(unknowns) - set(subs)
     blocks = _blocks(rest, remaining)
 
-    sm = symbolic_model(mech, coordinates="angles" if mech.dim == 2 else "nodes")
+    # planar: lengths and body angles kept as symbols, given the snapped values of the closure
+    sm = symbolic_model(mech, coordinates="angles" if mech.dim == 2 else "nodes", design_symbols=mech.dim == 2)
     loci: list[Locus] = []
     skipped: list[str] = []
     for kind in [k for k in KINDS if k in kinds]:
@@ -907,7 +991,7 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
             continue
         loci.append(locus)
     return Loci(xs, tuple(c.label for c in coords), tuple(c.label for c in held), tuple(loci), tuple(skipped),
-                mech.name)
+                mech.name, sys.snap)
 
 
 def _check_square(sys, equations, symbols, coords, held, tol: Tolerances) -> None:
@@ -962,20 +1046,23 @@ def _dkp_locus(sm, sys, subs, blocks, xs, kind, time_limit, limit, t0) -> Locus:
         total = total * _eliminate(g, blocks, limit)
     if total == 0:
         return Locus(kind, (), (), time.perf_counter() - t0, "the condition holds on the whole slice", True)
-    geometric, trivial = _factors(total, xs, sys.mech, sys.x0)
+    geometric, trivial = _factors(total, xs, sys)
     note = (f"zero where some motion is left with the {which}s locked (and at every IM configuration)")
     return Locus(kind, tuple(geometric), tuple(trivial), time.perf_counter() - t0, note)
 
 
 def _one_real_point(f, xs) -> bool:
-    """Whether the factor ``f`` is ``a((x − h)² + (y − k)²)``: a circle of radius 0, one real point (no curve)."""
+    """Whether the factor ``f`` has one real point and no real curve: ``a((x − h)² + (y − k)²)`` (a
+    circle of radius 0), or any factor with one isolated real point (:func:`isolated_real_points`)."""
     x, y = xs
     p = sp.Poly(f, x, y)
     if p.total_degree() != 2:
-        return False
+        points = isolated_real_points(f, xs)
+        return points is not None and len(points) == 1
     a, b, cc = (p.coeff_monomial(m) for m in (x ** 2, x * y, y ** 2))
     if b != 0 or a != cc or a == 0:
-        return False
+        points = isolated_real_points(f, xs)
+        return points is not None and len(points) == 1
     h, k = -p.coeff_monomial(x) / (2 * a), -p.coeff_monomial(y) / (2 * a)
     return sp.simplify(h ** 2 + k ** 2 - p.coeff_monomial(1) / a) == 0
 
@@ -1011,7 +1098,7 @@ def _im_locus(sm, sys, subs, blocks, xs, done: list, time_limit, limit, t0) -> L
     common = sp.gcd(norms[0], norms[1])
     if common == 0:
         return Locus(Kind.IM, (), (), time.perf_counter() - t0, "IM on the whole slice", True)
-    geometric, trivial = _factors(common, xs, sys.mech, sys.x0)
+    geometric, trivial = _factors(common, xs, sys)
     return Locus(Kind.IM, tuple(geometric), tuple(trivial), time.perf_counter() - t0,
                  "curves on which every maximal minor of the velocity equation vanishes on some branch "
                  "(gcd of the norms of two random combinations of the minors; isolated IM points are not listed)")

@@ -1,6 +1,7 @@
 """Fuzz test of model files (issue 7 §7): random edits end in an analysis or a ModelError.
 
-Every catalogue model and every ``papers_examples/*.toml`` is edited at random by a
+Every catalogue model, every ``papers_examples/*.toml`` (among them models written by their
+``[[joints]]``) and the joint forms of the 3-RPR and the 6-UPS is edited at random by a
 seeded :class:`random.Random` (the cases are the same on every run): keys deleted or
 renamed, values replaced by wrong types, NaN, ±inf, ±1e308, huge integers, empty
 containers, unicode and very long names, node names swapped or duplicated inside links,
@@ -30,6 +31,7 @@ import pytest
 import symkin
 from symkin.cli import main
 from symkin.model import catalogue
+from tests.model import joint_forms
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "papers_examples").glob("*.toml"))
@@ -323,6 +325,10 @@ def _bases() -> list[tuple[str, dict]]:
     bases = [(f"catalogue:{n}", catalogue.data(n)) for n in catalogue.names()]
     for path in EXAMPLES:
         bases.append((f"papers_examples/{path.name}", tomllib.loads(path.read_text(encoding="utf-8"))))
+    # models written by their joints (besides the papers_examples/*_joints.toml files)
+    rpr, gough = (tomllib.loads((joint_forms.MODELS / f"{n}.toml").read_text()) for n in ("rpr_3", "gough_stewart"))
+    bases.append(("joints:3-RPR", joint_forms.rpr_3(rpr["nodes"])))
+    bases.append(("joints:6-UPS", joint_forms.ups_6(gough["nodes"])))
     return bases
 
 

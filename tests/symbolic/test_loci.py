@@ -325,3 +325,137 @@ def test_rpr_im_locus_has_no_curve_the_loci_share_only_points():
     assert len(conic) == 1 and not _one_real_point(conic[0], (xo, yo))
     assert im.factors == () and "one real point" in im.note and not loci.skipped
     assert not _one_real_point(xo ** 2 + yo ** 2 - 1, (xo, yo)) and _one_real_point(3 * (xo - 1) ** 2 + 3 * yo ** 2, (xo, yo))
+
+
+# ----------------------------------------------------------------------------------- float data (issue 17 §4)
+def _floated(mech: symkin.Mechanism) -> symkin.Mechanism:
+    """The same five-bar with its moving nodes recomputed in floats from angles, as a user writes them
+    (every length equal to the exact one only up to rounding)."""
+    nodes = dict(mech.nodes)
+
+    def polar(origin, target):
+        dx, dy = target[0] - origin[0], target[1] - origin[1]
+        r, a = math.hypot(dx, dy), math.atan2(dy, dx)
+        return r, a
+
+    out = {k: list(v) for k, v in nodes.items()}
+    for pivot, elbow in (("A1", "B1"), ("A2", "B2")):
+        r, a = polar(nodes[pivot], nodes[elbow])
+        out[elbow] = [nodes[pivot][0] + r * math.cos(a), nodes[pivot][1] + r * math.sin(a)]
+    r, a = polar(nodes["B1"], nodes["P"])
+    out["P"] = [out["B1"][0] + r * math.cos(a), out["B1"][1] + r * math.sin(a)]
+    data = mech.to_dict()
+    data["nodes"] = out
+    return symkin.Mechanism.from_dict(data)
+
+
+def test_float_five_bar_gives_the_exact_models_factors():
+    """Pivots (±1, 0), cranks 2, distal links 5/2 (B2 = (−13/17, 16/17), a rational point): the model
+    rebuilt in floats (and the issue's own float five-bar) gives the same factors and meanings as the
+    exact one, and says which numbers it snapped."""
+    exact = five_bar((-1, 0), (1, 0), (-1, 2), (-13 / 17, 16 / 17), (1.5, 2))
+    floated = _floated(exact)
+    b1 = (-1.9686951572356552, 1.7497513230022688)
+    issue = five_bar((-1, 0), (1, 0), b1, (-b1[0], b1[1]), (0.0, b1[1] + math.sqrt(2.5 ** 2 - b1[0] ** 2)))
+    want = implicit_loci(exact)
+    assert want.snap.snapped == []
+    for mech in (floated, issue):
+        got = implicit_loci(mech)
+        for kind in ("DKP-input", "DKP-output"):
+            assert factor_set(got[kind], (x, y)) == factor_set(want[kind], (x, y)), kind
+            if mech is floated:
+                assert [f.meaning for f in got[kind].factors] == [f.meaning for f in want[kind].factors]
+        out = got["DKP-output"]
+        assert sorted(f.degree for f in out.factors) == [2, 2, 2, 2]
+        assert sum("radius 9/2 = l_crank1 + l_distal1" in f.meaning for f in out.factors) == 1
+        assert sorted(f.degree for f in got["DKP-input"].factors) == [4, 6]
+        assert any("sextic" in f.meaning for f in got["DKP-input"].factors)
+    issue_loci = implicit_loci(issue)
+    assert [s.exact for s in issue_loci.snap.snapped] == [sp.Rational(25, 4)] * 2
+    assert "snapped to the simplest rationals within 1e-06 x the length scale" in str(issue_loci)
+    data = issue_loci.as_dict()["snapping"]
+    assert data["relative_tolerance"] == 1e-6 and {s["snapped"] for s in data["snapped"]} == {"25/4"}
+    assert all(s["what"].startswith("squared length of distal") for s in data["snapped"])
+
+
+def test_snapping_a_shared_length_once_and_within_the_tolerance():
+    from symkin.symbolic.snapping import simplest_rational, snap_model
+
+    assert simplest_rational(2.0000000000000004, 1e-6) == 2 and simplest_rational(1 / 3, 1e-9) == sp.Rational(1, 3)
+    assert simplest_rational(2750.0, 0.002) == 2750  # an integer stays itself in any unit
+    r = simplest_rational(0.1234567, 1e-12)  # the smallest denominator within the tolerance
+    assert abs(float(r) - 0.1234567) <= 1e-12 and r.q < 10 ** 7
+    # two links whose lengths differ by less than the tolerance get one rational
+    mech = five_bar((-1, 0), (1, 0), (-1, 2.0000001), (1, 2.0000002), (0, 2.75))
+    s = snap_model(mech)
+    assert s.squared_length("crank1", "A1", "B1") == s.squared_length("crank2", "A2", "B2") == 4
+    assert abs(float(s.squared_length("crank1", "A1", "B1")) - 2.0000001 ** 2) <= 2 * 2.0000001 * s.tolerance
+
+
+def test_a_sextic_with_one_real_point_is_named_as_such():
+    """Cranks 1 about (∓1, 0), distal links 3: B1, P, B2 never line up (|B1 B2| ≤ 4 < 6), so the
+    DKP-input sextic (Watt's curve of a bar of length 6, P its midpoint) has only its isolated real
+    point at the origin, and is named like a circle of radius 0; the model is written in floats
+    (P = (0, 1 + √8))."""
+    from symkin.symbolic.real_points import isolated_real_points
+
+    mech = five_bar((-1, 0), (1, 0), (-1, 1), (1, 1), (0, 1 + math.sqrt(8)))
+    locus = implicit_loci(mech, kinds=("DKP-input",))["DKP-input"]
+    sextic = [f for f in locus.factors if f.degree == 6]
+    assert len(sextic) == 1 and same_up_to_constant(sextic[0].polynomial, watt_sextic(1, 1, 3), (x, y))
+    assert sextic[0].meaning.startswith("the point (0, 0) (a tricircular sextic") and "one real point" in sextic[0].meaning
+    assert isolated_real_points(watt_sextic(A, B, C), (x, y)) is None  # the five-bar's real Watt curve
+    assert isolated_real_points(x ** 4 + y ** 4 + 1, (x, y)) == []
+
+
+# ----------------------------------------------------------------------------------- spatial (issue 17 §5)
+GOUGH = Path(__file__).resolve().parents[1] / "workspace" / "models" / "gough_stewart.toml"
+
+
+def plucker_type2(mech: symkin.Mechanism, gens) -> sp.Poly:
+    """The Gough–Stewart's type-2 condition at the model's orientation and height, written
+    independently: the 6 × 6 matrix of the legs' Plücker lines (direction C_k − A_k, moment
+    A_k × C_k) with C_k = O + (C_k0 − O_0) (the platform translated), O = (x, y, z_0)."""
+    nodes = {n: [sp.Rational(repr(float(v))) for v in xyz] for n, xyz in mech.nodes}
+    o0 = nodes["O"]
+    ox, oy = gens
+    rows = []
+    for k in range(1, 7):
+        a = sp.Matrix(nodes[f"A{k}"])
+        c = sp.Matrix([ox + nodes[f"C{k}"][0] - o0[0], oy + nodes[f"C{k}"][1] - o0[1], nodes[f"C{k}"][2]])
+        rows.append(list(c - a) + list(a.cross(c)))
+    return sp.Poly(sp.expand(sp.Matrix(rows).det(method="berkowitz")), *gens)
+
+
+def test_gough_stewart_plucker_locus_is_a_conic_for_planar_base_and_platform():
+    """The model's base joints are coplanar (z = 0) and so are its platform joints: at constant
+    orientation and height the Plücker determinant has no cubic terms (a conic in (x_O, y_O), the
+    issue's coplanar case, not the general 6-6's cubic)."""
+    det = plucker_type2(symkin.read_model(GOUGH), (xo, yo))
+    top = max(abs(float(c)) for c in det.coeffs())
+    assert det.total_degree() <= 3
+    assert all(abs(float(c)) <= 1e-12 * top for m, c in det.terms() if sum(m) == 3)
+    assert max(abs(float(c)) for m, c in det.terms() if sum(m) == 2) > 1e-3 * top
+
+
+@pytest.mark.skip(reason="spatial loci are not eliminated yet: implicit_loci takes no orientation hold "
+                         "(rotation:<link>[x|y|z] is parsed in symkin/workspace/system.py, a later stage than "
+                         "symkin/symbolic), and the 6-6's DKP-input condition in nodal coordinates (39 unknowns): "
+                         "SymbolicModel.dkp_condition had not finished after 5 minutes and 8 GB, past its "
+                         "240 s time limit (issue 17 §5)")
+def test_gough_stewart_type2_locus_against_the_plucker_determinant():
+    mech = symkin.read_model(GOUGH)
+    holds = ("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]")
+    locus = implicit_loci(mech, ("velocity:O.x", "velocity:O.y"), hold=holds, kinds=("DKP-input",),
+                          time_limit=600)["DKP-input"]
+    det = plucker_type2(mech, (xo, yo))
+    grid = np.array([(gx, gy) for gx in np.linspace(-0.75, 1.25, 9) for gy in np.linspace(-1, 1, 9)])
+    g = sp.lambdify((xo, yo), det.as_expr())
+    kept = [p for p in grid if abs(g(*p)) > 1e-9]
+
+    def proportional(factor) -> bool:
+        f = sp.lambdify((xo, yo), factor.polynomial)
+        ratio = np.array([f(*p) / g(*p) for p in kept])
+        return bool(np.allclose(ratio, ratio[0], rtol=1e-8))
+
+    assert sum(proportional(f) for f in locus.factors) == 1  # one factor is the Plücker determinant

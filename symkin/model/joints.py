@@ -1,0 +1,542 @@
+"""Joints (kinematic pairs) of a model file, compiled to the nodal method's nodes, links and sliders.
+
+A model may describe a mechanism by its pairs (``[[joints]]``, README "Model files"): each
+joint joins two links (``"ground"`` is the fixed frame) at a point ``at``, with an ``axis``
+(R, P, C in space; P in the plane) and, for U, a second axis ``axis2``.  The nodal method
+of the paper expresses every one of them with what it already has (Altuzarra et al. 2004,
+§II: shared nodes, bars, bodies; the README's sliders):
+
+======  ==================================================================================
+type    compiled to
+======  ==================================================================================
+R (2D)  one node shared by both links, named after the joint (``R1``)
+S (3D)  one node shared by both links (``S1``)
+R (3D)  two nodes shared by both links, on the axis: ``R1`` at ``at`` and ``R1.axis`` at
+        ``at + ℓ·axis`` (two spatial bodies sharing two nodes turn about that axis)
+U (3D)  an added cross link ``U1.cross`` with three nodes: the centre ``U1`` (shared by
+        the three links), ``U1.axis`` on ``axis`` (shared with the first link: an R) and
+        ``U1.axis2`` on ``axis2`` (shared with the second link: an R)
+C (3D)  the second link (the runner) gets two nodes on the joint's line, ``C1`` at ``at``
+        and ``C1.end`` at ``at + ℓ·axis``, each a slider on the moving line through
+        ``C1.base`` (at ``at``) and ``C1.line`` (at ``at + ℓ·axis``) of the first link (the
+        guide); with ground as a link, sliders on the fixed line
+P (2D)  as C: in the plane two nodes on a line leave only the slide
+P (3D)  as C, plus the key that stops the rotation about the line when neither link is a
+        rod along the line (a rod's spin about its own line is no coordinate of the nodal
+        method): ``P1.keyed`` of the runner slides on the line ``P1.key``-``P1.keyline`` of
+        the guide, parallel to the joint's line; its row across the two lines repeats one
+        of the main sliders' rows, so the statics count one self-stress per keyed P
+======  ==================================================================================
+
+``ℓ`` is the model's own length (the mean distance between all given points: nodes and
+joint points), so that a model in millimetres and the same model in metres compile alike.
+A node is reused rather than added when its link already has one at the point (within the
+geometric tolerance): an R and a P at the same point of a cylinder share its node.  A link
+listed with its nodes keeps them and gains the joints' nodes; a link listed as a bar (two
+nodes) must be joined on its line (else it would be a body).
+
+Joint rates are expressed as the existing kinematic parameters (:class:`Parameter`),
+labelled ``joint:<id>``: a planar R between two moving links is the planar ``joint``
+parameter (ω₂ − ω₁), a joint to ground the rotation of the moving link (about ``axis`` in
+space; about ``-axis`` when ground is the second link), P and the slide of C the slide of
+the slider ``<id>`` (relative slide of the second link along ``axis``).  The rotation rate of
+a spatial joint between two moving links has no existing parameter yet: asking for it is a
+model error naming the joint.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+from symkin.errors import Problem
+from symkin.model.mechanism import Parameter, length_scale
+
+__all__ = ["Joint", "CompiledJoints", "Limits", "JOINT_TYPES", "JOINT_KEYS", "GROUND", "compile_joints"]
+
+#: the joint types allowed in a planar (2) and a spatial (3) model
+JOINT_TYPES = {2: ("R", "P"), 3: ("R", "P", "C", "U", "S")}
+JOINT_KEYS = ("id", "type", "links", "at", "axis", "axis2")
+#: the name of the fixed frame in a joint's ``links``
+GROUND = "ground"
+#: the types that need an ``axis`` (by dimension)
+_NEEDS_AXIS = {2: ("P",), 3: ("R", "P", "C", "U")}
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One kinematic pair of a model file, as given (``axis`` and ``axis2`` normalised)."""
+
+    id: str
+    type: str
+    links: tuple[str, str]
+    at: tuple[float, ...]
+    axis: tuple[float, ...] | None = None
+    axis2: tuple[float, ...] | None = None
+
+    def to_dict(self) -> dict:
+        out: dict = {"id": self.id, "type": self.type, "links": list(self.links), "at": list(self.at)}
+        if self.axis is not None:
+            out["axis"] = list(self.axis)
+        if self.axis2 is not None:
+            out["axis2"] = list(self.axis2)
+        return out
+
+
+@dataclass(frozen=True)
+class CompiledJoints:
+    """The node form of a joint model and what the joints became.
+
+    ``data`` is the model dictionary with nodes, links, fixed nodes and sliders of the
+    joints added and the ``joints`` key removed; ``joints`` the parsed joints;
+    ``rates`` the joint rates that existing parameters express, as ``(label, Parameter)``;
+    ``problems`` every problem found (the key names the joint).
+    """
+
+    data: dict
+    joints: tuple[Joint, ...]
+    rates: tuple[tuple[str, Parameter], ...]
+    problems: tuple[Problem, ...]
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The bounds of a model's numbers (:mod:`symkin.model.validation` passes its own).
+
+    ``coordinate``: largest magnitude of a coordinate or an axis component;
+    ``length``: smallest norm of an axis.
+    """
+
+    geometry: float
+    coordinate: float
+    length: float
+
+    def number(self, v: Any) -> bool:
+        """A finite number within ``±coordinate`` (an integer too large for a float is not)."""
+        if not isinstance(v, (int, float)) or isinstance(v, bool):
+            return False
+        try:
+            return math.isfinite(float(v)) and abs(float(v)) <= self.coordinate
+        except OverflowError:
+            return False
+
+
+def _unit(v):
+    n = math.sqrt(sum(c * c for c in v))
+    return tuple(c / n for c in v)
+
+
+def _dot(a, b) -> float:
+    return sum(x * y for x, y in zip(a, b))
+
+
+def _plus(p, v, s: float = 1.0):
+    return tuple(a + s * b for a, b in zip(p, v))
+
+
+def _normal(u):
+    """A unit vector normal to the unit vector ``u`` (3D), picked from the axis least along it."""
+    k = min(range(3), key=lambda i: abs(u[i]))
+    e = [0.0, 0.0, 0.0]
+    e[k] = 1.0
+    w = (u[1] * e[2] - u[2] * e[1], u[2] * e[0] - u[0] * e[2], u[0] * e[1] - u[1] * e[0])
+    return _unit(w)
+
+
+def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limits: Limits,
+                 problems: list) -> Joint | None:
+    key = f"joints[{k}]"
+
+    def bad(message: str, where: str = key) -> None:
+        problems.append(Problem(where, message))
+
+    if not isinstance(item, Mapping):
+        bad("must be a table with type, links and at")
+        return None
+    jtype = item.get("type")
+    jid = item.get("id")
+    if jid is not None and (not isinstance(jid, str) or not jid or "." in jid):
+        bad(f"id must be a non-empty string without '.', got {jid!r}")
+        return None
+    if isinstance(jtype, str) and jid is None:
+        counts[jtype] = counts.get(jtype, 0) + 1
+        jid = f"{jtype}{counts[jtype]}"
+    where = f"{key} ({jid})" if jid else key
+    extra = [x for x in item if x not in JOINT_KEYS]
+    if extra:
+        bad(f"unknown key(s) {', '.join(map(repr, extra))} (allowed: {', '.join(JOINT_KEYS)})", where)
+    allowed = JOINT_TYPES[dim]
+    if jtype not in JOINT_TYPES[3] + ("H",):
+        bad(f"type must be one of {', '.join(allowed)} (dim = {dim}), got {jtype!r}", where)
+        return None
+    if jtype == "H":
+        bad("the helical pair H is not available yet: its rotation tied to its slide is a constraint "
+            "row that shared nodes and sliders cannot express", where)
+        return None
+    if jtype not in allowed:
+        what = "planar" if dim == 2 else "spatial"
+        bad(f"type {jtype!r} is not allowed in a {what} model (dim = {dim}): "
+            f"{what} joints are {', '.join(allowed)}", where)
+        return None
+    pair = item.get("links")
+    if not (isinstance(pair, (list, tuple)) and len(pair) == 2 and all(isinstance(x, str) for x in pair)):
+        bad(f"links must be the two link names it joins (\"{GROUND}\" = the fixed frame), got {pair!r}", where)
+        return None
+    ok = True
+    for name in pair:
+        if name != GROUND and name not in links:
+            bad(f"unknown link {name!r} (the links are {', '.join(map(repr, links)) or 'none'}; "
+                f"\"{GROUND}\" is the fixed frame)", where)
+            ok = False
+    if pair[0] == pair[1]:
+        bad(f"joins link {pair[0]!r} to itself", where)
+        ok = False
+    at = item.get("at")
+    if not (isinstance(at, (list, tuple)) and len(at) == dim and all(limits.number(v) for v in at)):
+        bad(f"at must be {dim} finite numbers (the joint's point), got {at!r}", where)
+        ok = False
+    axes = []
+    for name in ("axis", "axis2"):
+        needed = (jtype in _NEEDS_AXIS[dim]) if name == "axis" else jtype == "U"
+        value = item.get(name)
+        if value is None:
+            if needed:
+                bad(f"a {jtype} joint needs '{name}'", where)
+                ok = False
+            axes.append(None)
+            continue
+        if not needed:
+            bad(f"'{name}' does not go with a {'planar ' if dim == 2 else ''}{jtype} joint", where)
+            ok = False
+            axes.append(None)
+            continue
+        if not (isinstance(value, (list, tuple)) and len(value) == dim and all(limits.number(v) for v in value)):
+            bad(f"{name} must be {dim} finite numbers, got {value!r}", where)
+            ok = False
+            axes.append(None)
+            continue
+        norm = math.sqrt(sum(float(v) ** 2 for v in value))
+        if not norm >= limits.length:
+            bad(f"zero {name} {list(value)!r}: a joint axis needs a direction", where)
+            ok = False
+            axes.append(None)
+            continue
+        axes.append(_unit(tuple(float(v) for v in value)))
+    if not ok:
+        return None
+    return Joint(id=jid, type=jtype, links=(pair[0], pair[1]), at=tuple(float(v) for v in at),
+                 axis=axes[0], axis2=axes[1])
+
+
+class _Builder:
+    """Nodes, links, fixed nodes and sliders of the node form, built joint by joint."""
+
+    def __init__(self, data: Mapping, reach: float, tol: float, problems: list):
+        self.nodes = {n: tuple(float(c) for c in p) for n, p in (data.get("nodes") or {}).items()}
+        self.links = {n: list(ns) for n, ns in data["links"].items()}
+        self.given = {n: tuple(ns) for n, ns in self.links.items() if ns}  # links listed with their nodes
+        self.fixed = list(data.get("fixed", []))
+        self.sliders: list[dict] = []
+        self.reach, self.tol, self.problems = reach, tol, problems
+
+    def near(self, names, point):
+        return [n for n in names if n in self.nodes and len(self.nodes[n]) == len(point)
+                and math.dist(self.nodes[n], point) <= self.tol]
+
+    def shared(self, joint: Joint, links, point, name: str) -> str | None:
+        """The one node at ``point`` of every link in ``links`` (``GROUND``: a fixed node), made if new."""
+        found: list[str] = []
+        for link in links:
+            pool = self.fixed if link == GROUND else self.links[link]
+            for n in self.near(pool, point):
+                if n not in found:
+                    found.append(n)
+        where = f"joints ({joint.id})"
+        if len(found) > 1:
+            self.problems.append(Problem(where, f"links {' and '.join(links)} have different nodes "
+                                                f"({', '.join(found)}) at the joint's point"))
+            return None
+        if found:
+            node = found[0]
+        else:
+            if name in self.nodes:
+                self.problems.append(Problem(where, f"node {name!r} already exists elsewhere: "
+                                                    "rename the node or the joint"))
+                return None
+            node, self.nodes[name] = name, tuple(point)
+        for link in links:
+            if link == GROUND:
+                if node not in self.fixed:
+                    self.fixed.append(node)
+            elif node not in self.links[link]:
+                self.links[link].append(node)
+        return node
+
+    def check_on(self, joint: Joint) -> bool:
+        """A link given as a bar (two nodes listed) is joined on its line: otherwise it would be a body."""
+        ok = True
+        for link in joint.links:
+            ns = self.given.get(link, ())
+            if len(ns) == 2 and ns[0] in self.nodes and ns[1] in self.nodes:
+                a, c = self.nodes[ns[0]], self.nodes[ns[1]]
+                if math.dist(a, c) == 0.0:  # a zero-length bar: the node checks report it
+                    continue
+                u = _unit(tuple(y - x for x, y in zip(a, c)))
+                if not self.along_line(joint.at, a, u):
+                    self.problems.append(Problem(f"joints ({joint.id})", (
+                        f"the point {list(joint.at)!r} is not on link {link}, the bar {ns[0]}-{ns[1]} "
+                        f"(beyond {self.tol:.3g}): join a bar on its line, or list the link as a body")))
+                    ok = False
+        return ok
+
+    def along_line(self, point, at, u) -> bool:
+        d = tuple(a - b for a, b in zip(point, at))
+        t = _dot(d, u)
+        return _dot(d, d) - t * t <= self.tol ** 2
+
+    def line(self, joint: Joint) -> None:
+        """A P or C: two runner nodes on the guide's line (the key of a spatial P: :func:`_key`)."""
+        guide, runner = joint.links
+        sign = 1.0
+        if runner == GROUND:
+            guide, runner, sign = runner, guide, -1.0
+        u, at, jid = joint.axis, joint.at, joint.id
+        end = _plus(at, u, self.reach)
+        if guide == GROUND:
+            way = {"point": list(at), "direction": [sign * c for c in u]}
+        else:
+            base = self.shared(joint, [guide], at, f"{jid}.base")
+            tip = self.shared(joint, [guide], end, f"{jid}.line")
+            if base is None or tip is None:
+                return
+            way = {"line": [base, tip], "link": guide}
+        for name, point in ((jid, at), (f"{jid}.end", end)):
+            node = self.shared(joint, [runner], point, name)
+            if node is None:
+                return
+            self.sliders.append({"id": name, "node": node, **way})
+
+    def along(self, link: str, at, u) -> bool:
+        """Every node of ``link`` on the line through ``at`` along ``u`` (a rod on that line)."""
+        return all(self.along_line(self.nodes[n], at, u) for n in self.links[link])
+
+
+def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list) -> Parameter | None:
+    """The rate ``motion`` ("rotation" or "slide"; U: "1", "2") of ``joint`` as an existing parameter."""
+    first, second = joint.links
+    label = f"joint:{joint.id}" if joint.type in ("R", "P") else f"joint:{joint.id}.{motion}"
+    if motion == "slide":
+        return Parameter("slide", (joint.id,), label=label)
+    if dim == 2:
+        if GROUND not in joint.links:
+            return Parameter("joint", (first, second), label=label)
+        if first == GROUND:
+            return Parameter("rotation", (second,), label=label)
+        problems.append(Problem(where, f"the rate of joint {joint.id} with ground as its second link "
+                                       f"is minus the rotation of {first}: write links = "
+                                       f"[\"{GROUND}\", \"{first}\"]"))
+        return None
+    axis = joint.axis
+    if joint.type == "U":
+        # axis 1: the cross turns on the first link; axis 2: the second link on the cross
+        cross = f"{joint.id}.cross"
+        first, second = (first, cross) if motion == "1" else (cross, second)
+        axis = joint.axis if motion == "1" else joint.axis2
+    if first == GROUND:
+        return Parameter("rotation", (second,), axis=axis, label=label)
+    if second == GROUND:
+        return Parameter("rotation", (first,), axis=tuple(-c for c in axis), label=label)
+    problems.append(Problem(where, f"the rotation rate of spatial joint {joint.id} between two moving "
+                                   f"links ({first}, {second}) is not available yet (a relative spatial "
+                                   "rotation has no kinematic parameter); drive it through a joint to "
+                                   "ground or a link's rotation about an axis"))
+    return None
+
+
+def _motions(joint: Joint) -> tuple[str, ...]:
+    """The rates a joint has: "rotation", "slide", or "1", "2" for U (S has none by joint)."""
+    if joint.type == "R":
+        return ("rotation",)
+    if joint.type == "P":
+        return ("slide",)
+    if joint.type == "C":
+        return ("rotation", "slide")
+    if joint.type == "U":
+        return ("1", "2")
+    return ()
+
+
+def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems: list):
+    """A ``{joint = "R1", ...}`` entry → the parameter dictionary it stands for, or None."""
+    joint = by_id.get(item["joint"])
+    if joint is None:
+        problems.append(Problem(where, f"unknown joint {item['joint']!r}"))
+        return None
+    extra = [k for k in item if k not in ("joint", "label", "motion", "axis")]
+    if extra:
+        problems.append(Problem(where, f"unknown key(s) {', '.join(map(repr, extra))} for a joint rate"))
+        return None
+    if joint.type == "C":
+        motion = item.get("motion")
+        if motion not in ("rotation", "slide"):
+            problems.append(Problem(where, f"joint {joint.id} is a C: give motion = \"rotation\" or \"slide\""))
+            return None
+    elif joint.type == "U":
+        k = item.get("axis")
+        if k not in (1, 2) or isinstance(k, bool):
+            problems.append(Problem(where, f"joint {joint.id} is a U: give axis = 1 or 2"))
+            return None
+        motion = str(k)
+    elif joint.type == "S":
+        problems.append(Problem(where, f"joint {joint.id} is an S: it has no single rate; use "
+                                       "rotations of its links"))
+        return None
+    else:
+        if "motion" in item or "axis" in item:
+            problems.append(Problem(where, f"'motion' and 'axis' go with C and U joints, not with "
+                                           f"{joint.type} joint {joint.id}"))
+            return None
+        motion = _motions(joint)[0]
+    p = _rate(joint, dim, motion, where, problems)
+    if p is None:
+        return None
+    out = p.to_dict()
+    if "label" in item:
+        out["label"] = item["label"]
+    return out
+
+
+def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
+    """The node form of a model with ``joints`` (see the module docstring).
+
+    ``data`` is the model dictionary as read; ``dim`` its (valid) dimension; ``limits``
+    the relative tolerance of geometric checks (:attr:`symkin.Tolerances.geometry`) and the
+    bounds of numbers.  Nothing is raised: problems are returned.
+
+    Examples
+    --------
+    >>> c = compile_joints({"dim": 2, "links": {"crank": [], "rocker": []},
+    ...                     "joints": [{"type": "R", "links": ["ground", "crank"], "at": [0, 0]},
+    ...                                {"type": "R", "links": ["crank", "rocker"], "at": [1, 0]}]},
+    ...                    2, Limits(geometry=1e-6, coordinate=1e100, length=1e-100))
+    >>> c.data["links"], c.data["fixed"]
+    ({'crank': ['R1', 'R2'], 'rocker': ['R2']}, ['R1'])
+    """
+    problems: list[Problem] = []
+    items = data.get("joints")
+    links = data.get("links")
+    if not isinstance(items, (list, tuple)):
+        return CompiledJoints(dict(data), (), (), (Problem("joints", "must be a list of tables ([[joints]])"),))
+    if not isinstance(links, Mapping) or not all(
+            isinstance(v, (list, tuple)) and all(isinstance(n, str) for n in v) for v in links.values()):
+        return CompiledJoints(dict(data), (), (), (Problem("links", "must be a table of link name = "
+                                                                    "[node names] (or [] for a link its "
+                                                                    "joints define)"),))
+    if GROUND in links:
+        problems.append(Problem(f"links.{GROUND}", f"\"{GROUND}\" names the fixed frame in joints: "
+                                                   "rename the link"))
+    nodes = data.get("nodes") or {}
+    if not isinstance(nodes, Mapping) or not all(
+            isinstance(p, (list, tuple)) and len(p) == dim and all(limits.number(v) for v in p) for p in nodes.values()):
+        return CompiledJoints(dict(data), (), (), (Problem("nodes", f"with joints, nodes must be a table of "
+                                                                    f"name = [{dim} finite numbers within "
+                                                                    f"±{limits.coordinate:g}]"),))
+    fixed = data.get("fixed", [])
+    if not isinstance(fixed, (list, tuple)) or not all(isinstance(n, str) and n in nodes for n in fixed):
+        return CompiledJoints(dict(data), (), (), (Problem("fixed", "must be a list of node names"),))
+    counts: dict[str, int] = {}
+    joints, seen = [], {}
+    for k, item in enumerate(items):
+        j = _parse_joint(item, k, dim, links, counts, limits, problems)
+        if j is None:
+            continue
+        if j.id in seen:
+            problems.append(Problem(f"joints[{k}] ({j.id})", f"duplicate joint id {j.id!r} "
+                                                              f"(also joints[{seen[j.id]}])"))
+            continue
+        seen[j.id] = k
+        joints.append(j)
+    for j in joints:
+        if j.type == "U" and abs(_dot(j.axis, j.axis2)) > limits.geometry:
+            angle = math.degrees(math.acos(max(-1.0, min(1.0, _dot(j.axis, j.axis2)))))
+            problems.append(Problem(f"joints ({j.id})", f"the axes of U joint {j.id} are not perpendicular "
+                                                        f"({angle:.6g}°; tolerance {limits.geometry:g} in the "
+                                                        "cosine)"))
+    if problems:
+        return CompiledJoints(dict(data), tuple(joints), (), tuple(problems))
+
+    points = [tuple(map(float, p)) for p in nodes.values()] + [j.at for j in joints]
+    reach = length_scale(dict(enumerate(points)), [range(len(points))])
+    b = _Builder(data, reach, limits.geometry * reach, problems)
+    for j in joints:
+        if not b.check_on(j):
+            continue
+        pair = list(j.links)
+        if j.type in ("S",) or (j.type == "R" and dim == 2):
+            b.shared(j, pair, j.at, j.id)
+        elif j.type == "R":
+            if b.shared(j, pair, j.at, j.id) is not None:
+                b.shared(j, pair, _plus(j.at, j.axis, reach), f"{j.id}.axis")
+        elif j.type == "U":
+            cross = f"{j.id}.cross"
+            if cross in b.links:
+                problems.append(Problem(f"joints ({j.id})", f"link {cross!r} exists: rename the link or the joint"))
+                continue
+            b.links[cross] = []
+            if b.shared(j, [pair[0], cross, pair[1]], j.at, j.id) is not None:
+                b.shared(j, [pair[0], cross], _plus(j.at, j.axis, reach), f"{j.id}.axis")
+                b.shared(j, [cross, pair[1]], _plus(j.at, j.axis2, reach), f"{j.id}.axis2")
+        else:  # P, C: the key of a spatial P is decided once every joint has placed its nodes
+            b.line(j)
+    for j in joints:
+        if dim == 3 and j.type == "P" and not problems and not any(
+                link != GROUND and b.along(link, j.at, j.axis) for link in j.links):
+            _key(b, j)
+
+    rates = []
+    for j in joints:
+        for motion in _motions(j):
+            p = _rate(j, dim, motion, "", [])
+            if p is not None:
+                rates.append((p.label, p))
+    by_id = {j.id: j for j in joints}
+    out = {k: v for k, v in data.items() if k != "joints"}
+    for where in ("inputs", "outputs"):
+        params = data.get(where)
+        if not isinstance(params, (list, tuple)):
+            continue
+        new = []
+        for k, item in enumerate(params):
+            if isinstance(item, Mapping) and isinstance(item.get("joint"), str):
+                item = _joint_parameter(item, f"{where}[{k}]", by_id, dim, problems)
+                if item is None:
+                    continue
+            new.append(item)
+        out[where] = new
+    out["nodes"] = {n: list(p) for n, p in b.nodes.items()}
+    out["links"] = {n: ns for n, ns in b.links.items()}
+    out["fixed"] = b.fixed
+    sliders = data.get("sliders", [])
+    out["sliders"] = list(sliders) + b.sliders if isinstance(sliders, (list, tuple)) else sliders
+    return CompiledJoints(out, tuple(joints), tuple(rates), tuple(problems))
+
+
+def _key(b: _Builder, j: Joint) -> None:
+    """The key of a spatial P between two links that are not rods along its line."""
+    guide, runner = j.links
+    sign = 1.0
+    if runner == GROUND:
+        guide, runner, sign = runner, guide, -1.0
+    u, at, reach = j.axis, j.at, b.reach
+    off = _plus(at, _normal(u), reach)
+    if guide == GROUND:
+        way = {"point": list(off), "direction": [sign * c for c in u]}
+    else:
+        a = b.shared(j, [guide], off, f"{j.id}.key")
+        c = b.shared(j, [guide], _plus(off, u, reach), f"{j.id}.keyline")
+        if a is None or c is None:
+            return
+        way = {"line": [a, c], "link": guide}
+    node = b.shared(j, [runner], off, f"{j.id}.keyed")
+    if node is not None:
+        b.sliders.append({"id": f"{j.id}.keyed", "node": node, **way})

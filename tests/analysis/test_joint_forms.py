@@ -1,0 +1,145 @@
+"""A mechanism written by its joints analyses as its node form (issue 16, "checks that assert").
+
+Same DOF, types, ranks, platform DOF and relations (the coefficients, up to the joint-rate
+labels) at the model configuration and at a singular one; the same path events over a
+segment; the 6-UPS Gough–Stewart by U, P and S joints as the SPS node form.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import symkin
+from symkin.model import catalogue
+from tests.model import joint_forms as jf
+
+
+def _summary(a):
+    rel = [tuple(c for _, c in r.coefficients) for r in a.input_relations + a.output_relations + a.platform_relations]
+    return (a.dof, a.mobility, a.types, a.input_rank, a.output_rank, a.platform_dof, a.gosselin_angeles,
+            a.zlatanov), rel
+
+
+def _same(node: symkin.Mechanism, joint: symkin.Mechanism, extra_lim: str | None = None):
+    """Equal summaries; ``extra_lim``: a link of the joint form that the node form has not (LIM)."""
+    an, aj = symkin.analyze(node), symkin.analyze(joint)
+    if extra_lim is None:
+        assert aj.redundant_constraints == an.redundant_constraints
+    (a, ra), (b, rb) = _summary(an), _summary(aj)
+    if extra_lim is not None:
+        assert aj.locked_links == (extra_lim,) and "LIM" in b[2] and "LIM" not in a[2]
+        b = b[:2] + (tuple(t for t in b[2] if t != "LIM"),) + b[3:]
+        a, b = a[:6], b[:6]
+    assert a == b
+    assert len(ra) == len(rb)
+    for x, y in zip(ra, rb):
+        assert np.allclose(x, y, rtol=1e-7, atol=1e-9)
+
+
+def _rpr_node():
+    return symkin.read_model(jf.MODELS / "rpr_3.toml")
+
+
+def _pairs():
+    fb = [catalogue.get(n) for n in ("fourbar_appendix", "fourbar_dead_centre", "fourbar_flat")]
+    sc = catalogue.get("slider_crank")
+    gough = symkin.read_model(jf.MODELS / "gough_stewart.toml")
+    return [(m.name, m, jf.fourbar(m.coordinates())) for m in fb] + [
+        (sc.name, sc, jf.slider_crank(sc.coordinates(), (0.0, 0.25), (1.0, 0.0))),
+        ("rssr", catalogue.get("rssr"), jf.rssr(catalogue.get("rssr").coordinates())),
+        ("five-bar", catalogue.get("five_bar"), jf.five_bar(catalogue.get("five_bar").coordinates())),
+        ("3-RRR", catalogue.get("rrr_3"), jf.rrr_3(catalogue.get("rrr_3").coordinates())),
+        ("Bennett", catalogue.get("bennett"), jf.bennett(catalogue.get("bennett").coordinates())),
+        ("3-RPR", _rpr_node(), jf.rpr_3(_rpr_node().coordinates())),
+        ("6-UPS", gough, jf.ups_6(gough.coordinates())),
+    ]
+
+
+@pytest.mark.parametrize("name, node, joint", _pairs(), ids=[p[0] for p in _pairs()])
+def test_joint_form_analyses_as_node_form(name, node, joint):
+    _same(node, symkin.Mechanism.from_dict(joint))
+
+
+def test_slider_crank_at_its_dead_centre():
+    # crank A-B along A->C: the slider stops (DKP-output), in both forms; the joint form has the
+    # block as a link, and a link that cannot move is LIM (as the four-bar's rocker at its dead centre)
+    c = np.array([3.5, 0.25])
+    b = 0.8 * c / np.linalg.norm(c)
+    node = catalogue.get("slider_crank").with_coordinates({"B": tuple(b), "C": tuple(c)})
+    assert "DKP-output" in symkin.analyze(node).types
+    _same(node, symkin.Mechanism.from_dict(jf.slider_crank(node.coordinates(), (0.0, 0.25), (1.0, 0.0))),
+          extra_lim="block")
+
+
+def test_rssr_path_events_and_a_singular_configuration():
+    node = catalogue.get("rssr")
+    joint = symkin.Mechanism.from_dict(jf.rssr(node.coordinates()))
+    pn = symkin.trace(node, None, 0.0, 360.0, unit="deg")
+    pj = symkin.trace(joint, "joint:R1", 0.0, 360.0, unit="deg")
+    en, ej = pn.singular_events(), pj.singular_events()
+    assert [e.kind for e in en] == [e.kind for e in ej] and en
+    assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
+    at = node.with_coordinates(en[0].coordinates.reshape(-1, 3))
+    assert symkin.analyze(at).types
+    _same(at, symkin.Mechanism.from_dict(jf.rssr(at.coordinates())))
+
+
+def test_rpr_at_a_singular_configuration_and_along_a_path():
+    node = _rpr_node()
+    joint = symkin.Mechanism.from_dict(jf.rpr_3(node.coordinates()))
+    pn = symkin.trace(node, "slide:s1", 0.0, 3.0)
+    pj = symkin.trace(joint, "joint:P1", 0.0, 3.0)
+    en, ej = pn.singular_events(), pj.singular_events()
+    assert [e.kind for e in en] == [e.kind for e in ej] and len(en) == 2
+    assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
+    assert pn.stop_reason == pj.stop_reason
+    # the node form's configuration at its first event, written by its joints
+    e = en[0]
+    at = node.with_coordinates(e.coordinates.reshape(-1, 2))
+    assert "DKP-input" in symkin.analyze(at).types
+    _same(at, symkin.Mechanism.from_dict(jf.rpr_3(at.coordinates())))
+
+
+def test_fourbar_path_events():
+    node = catalogue.get("fourbar_appendix")
+    joint = symkin.Mechanism.from_dict(jf.fourbar(node.coordinates()))
+    pn = symkin.trace(node, "rotation:crank", 0.0, 360.0, unit="deg")
+    pj = symkin.trace(joint, "joint:R1", 0.0, 360.0, unit="deg")
+    en, ej = pn.singular_events(), pj.singular_events()
+    assert [e.kind for e in en] == [e.kind for e in ej] and en
+    assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
+
+
+def test_gough_joint_form_mm_and_m():
+    gough = symkin.read_model(jf.MODELS / "gough_stewart.toml")
+    mm = {n: [1000.0 * c for c in x] for n, x in gough.coordinates().items()}
+    _same(gough.moved(scale=1000.0), symkin.Mechanism.from_dict(jf.ups_6(mm)))
+
+
+@pytest.mark.parametrize("name", ["fig11_3rsr_a", "fig12_3rsr_b", "fig13_3rsr_c"])
+def test_paper_3rsr_positions_by_their_joints(name):
+    node = symkin.read_model(jf.ROOT / "papers_examples" / f"{name}.toml")
+    joint = symkin.Mechanism.from_dict(jf.rsr_3(node.coordinates()))
+    an, aj = symkin.analyze(node), symkin.analyze(joint)
+    assert (an.dof, an.types, an.input_rank, an.output_rank, an.platform_dof, an.locked_links) == \
+        (aj.dof, aj.types, aj.input_rank, aj.output_rank, aj.platform_dof, aj.locked_links)
+    assert an.types                                   # each position is singular (the paper's point)
+    for x, y in zip(an.input_relations + an.output_relations, aj.input_relations + aj.output_relations):
+        assert np.allclose([c for _, c in x.coefficients], [c for _, c in y.coefficients], rtol=1e-7, atol=1e-9)
+
+
+def test_gough_joint_form_turned_and_moved():
+    gough = symkin.read_model(jf.MODELS / "gough_stewart.toml")
+    data = jf.ups_6(gough.coordinates())
+    c, s = np.cos(0.7), np.sin(0.7)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+    shift = np.array([0.3, -1.2, 4.0])
+    place = lambda p: list(rot @ np.asarray(p, float) + shift)
+    turn = lambda v: list(rot @ np.asarray(v, float))
+    for j in data["joints"]:
+        j["at"] = place(j["at"])
+        for key in ("axis", "axis2"):
+            if key in j:
+                j[key] = turn(j[key])
+    data["nodes"] = {n: place(p) for n, p in data["nodes"].items()}
+    _same(gough.moved(rotation=rot, translation=shift), symkin.Mechanism.from_dict(data))
