@@ -18,7 +18,10 @@ For the appendix four-bar, the 3-RRR (``rrr_3``), the spatial RSSR (``rssr``) an
    steps, warm-started from the previous solution; and the same without a Jacobian
    (finite differences, what ``root(fun, x0)`` does by default).  One hybr iteration
    evaluates the residual and Jacobian once (``nfev``), so µs per ``nfev`` is its cost
-   per Newton step.  The baseline's last configuration is checked against the trace's.
+   per Newton step.  The baseline's last configuration is checked against the trace's;
+5. the classification of the located events: ``analyze(mech.with_coordinates(x))`` (the model
+   rebuilt at the event, as before) against ``classify_event`` (from the curve's evaluator
+   rows where they cover the model), µs per event.
 
 Ratios are baseline / symkin.  For the four-bar it also checks the issue's target: both dead
 centres located within 1e-10 rad of the law of cosines in fewer than 5,000 residual
@@ -38,7 +41,7 @@ from scipy.optimize import root
 
 import symkin
 from symkin.curves.stepper import Settings, SteppingError, continue_curve, correct as newton, tangent
-from symkin.paths.trace import trace
+from symkin.paths.trace import classify_event, curve_rows_cover, trace
 
 ROOT = FilePath(__file__).resolve().parents[1]
 
@@ -289,6 +292,34 @@ CASES = [
 ]
 
 
+def classification_times(path, located, repeat) -> tuple[float, float]:
+    """Seconds per located event: ``analyze`` of the rebuilt model (old) and ``classify_event`` (new).
+
+    The two are timed in turn, ``repeat`` rounds (after one call of each), each keeping its
+    best round: the machine's load falls on both alike.
+    """
+    mech, curve = path.mechanism, path.curve
+    reps = 20
+
+    def old():
+        for _ in range(reps):
+            for e in located:
+                symkin.analyze(mech.with_coordinates(e.coordinates))
+
+    def new():
+        for _ in range(reps):
+            for e in located:
+                classify_event(curve, e.y)
+
+    classify_event(curve, located[0].y)  # builds the curve's row Function once
+    t_old = t_new = math.inf
+    for _ in range(repeat):
+        t_old = min(t_old, best_of(old, 1)[0])
+        t_new = min(t_new, best_of(new, 1)[0])
+    n = reps * len(located)
+    return t_old / n, t_new / n
+
+
 def best_of(fn, repeat):
     best, out = math.inf, None
     for _ in range(repeat):
@@ -321,6 +352,12 @@ def main(argv=None) -> int:
             own = [e.evaluations for e in sing]
             print(f"  per located singular event: {np.mean(own):.1f} residual evaluations to locate it "
                   f"(whole trace / events: {path.residual_evaluations / len(sing):.0f})")
+        located = [e for e in path.events if e.analysis is not None]
+        if located:
+            t_old, t_new = classification_times(path, located, args.repeat)
+            how = "curve rows" if curve_rows_cover(path.curve) else "falls back to analyze"
+            print(f"  classification per event ({how}): analyze(mech.with_coordinates(x)) {t_old * 1e6:.0f} µs, "
+                  f"classify_event {t_new * 1e6:.0f} µs ({t_old / t_new:.2f}x)")
 
         curve = path.curve
         runs = [run_continuation(curve, args.steps) for _ in range(args.repeat)]

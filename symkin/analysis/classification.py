@@ -20,6 +20,12 @@ Gosselin–Angeles and Zlatanov types are derived from the same subspaces (see
 :func:`analyze`).  Every analysis also reports the self-stresses and redundant constraints
 (:mod:`symkin.analysis.statics`) and warnings about odd models
 (:mod:`symkin.model.diagnostics`).
+
+:func:`classify` is the computation: it takes the rows at a configuration
+(:class:`~symkin.analysis.motion_space.ConfigurationRows`: constraint rows, free
+coordinates, parameter rows already evaluated, the mechanism for topology and labels).
+:func:`analyze` builds those rows from the model (:func:`~symkin.analysis.motion_space.model_rows`)
+and calls it; the paths stage builds them from the curve's evaluators at an event.
 """
 from __future__ import annotations
 
@@ -30,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from symkin.analysis import indicators
-from symkin.analysis.motion_space import MotionSpace, motion_space
+from symkin.analysis.motion_space import ConfigurationRows, MotionSpace, model_rows, motion_space_of
 from symkin.analysis.relations import Relation, canonical_relations
 from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
@@ -39,7 +45,7 @@ from symkin.numeric.linalg import rref, singular_values, svd_factors, svd_rank
 from symkin.kinds import TYPES, Kind
 from symkin.tolerances import Tolerances
 
-__all__ = ["Relation", "Motion", "Analysis", "analyze", "TYPES"]
+__all__ = ["Relation", "Motion", "Analysis", "analyze", "classify", "platform_twist", "TYPES"]
 
 
 
@@ -277,8 +283,30 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     (1, ())
     """
     tolerances = Tolerances.of(tol)
+    return classify(model_rows(mech, tolerances), tolerances)
+
+
+def classify(rows: ConfigurationRows, tol: float | Tolerances | None = None) -> Analysis:
+    """Classify the configuration whose rows are ``rows`` (the computation of :func:`analyze`).
+
+    ``rows.mechanism`` gives the topology, the labels, the inputs, outputs and platform;
+    every number comes from ``rows`` (the constraint rows, and the parameter rows it
+    carries or, for the others, the mechanism's rows at ``rows.xyz``).  The self-stresses'
+    constraint labels are those of the mechanism's own configuration, the same at any
+    configuration of a model without degenerate bodies or sliders (whose rows the paths
+    stage does not take from its evaluators).
+
+    Examples
+    --------
+    >>> from symkin.analysis.motion_space import model_rows
+    >>> from symkin.model.catalogue import get
+    >>> classify(model_rows(get("fourbar_dead_centre"))).types
+    ('DKP-output', 'LIM')
+    """
+    tolerances = Tolerances.of(tol)
     t = tolerances.rank
-    ms = motion_space(mech, tolerances)
+    mech = rows.mechanism
+    ms = motion_space_of(rows, tolerances)
     f = mech.mobility_value
     L = ms.dof
     types = []
@@ -307,7 +335,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     pf_rel: tuple[Relation, ...] = ()
     m_pf = None
     if mech.platform is not None:
-        twist, is_outputs = _platform_twist(mech)
+        twist, is_outputs = platform_twist(mech)
         if is_outputs:  # the usual case: the outputs are the platform's twist
             m_pf, n_pf, lab_pf, rk_pf = m_out, n_out, lab_out, rk_out
         else:
@@ -401,8 +429,16 @@ def _margin(value: float, threshold: float) -> float:
 _TWISTS: dict = {}
 
 
-def _platform_twist(mech: Mechanism) -> tuple[ParameterList, bool]:
-    """The platform's twist as a parameter list, and whether it is the outputs (once per topology)."""
+def platform_twist(mech: Mechanism) -> tuple[ParameterList, bool]:
+    """The platform's twist as a parameter list, and whether it is the outputs (once per topology).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> twist, is_outputs = platform_twist(get("rrr_3"))
+    >>> twist[0].kind, is_outputs
+    ('twist', True)
+    """
     got = _TWISTS.get(mech.topology)
     if got is None:
         twist = ParameterList((Parameter("twist", (mech.platform,)),))

@@ -11,6 +11,13 @@ right singular vectors beyond the rank) and, kept on the result as :attr:`Motion
 the left singular vectors, whose columns beyond the rank span the left null space of
 ``J_r`` (self-stresses).  Parameter rows restricted to the motion space are computed once
 per parameter list (:meth:`MotionSpace.restrict`).
+
+The SVD takes rows, not a model: :class:`ConfigurationRows` holds the constraint rows
+at one configuration (all coordinates), the free coordinates and, optionally, parameter
+rows already evaluated there.  :func:`model_rows` builds them from the model as the
+NumPy core does; :func:`motion_space_of` is the computation, and
+:func:`motion_space` is the two together.  The paths stage builds the rows from the
+curve's CasADi evaluators at an event instead (:mod:`symkin.paths.trace`).
 """
 from __future__ import annotations
 
@@ -26,7 +33,50 @@ from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels,
 from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["MotionSpace", "motion_space"]
+__all__ = ["ConfigurationRows", "MotionSpace", "model_rows", "motion_space", "motion_space_of"]
+
+
+@dataclass(frozen=True, eq=False)
+class ConfigurationRows:
+    """The rows at one configuration that the motion space and the classification need.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+        Topology, labels, inputs and outputs; its own coordinates are the configuration
+        only when ``xyz`` is None.
+    J : ndarray (m, D)
+        Dimensionless constraint rows over all coordinates, in the order and with the
+        owners of :func:`~symkin.numeric.geometric_matrix.constraint_rows`.
+    free_index : ndarray of int
+        Indices of the free coordinates among the D.
+    xyz : ndarray (n_nodes, dim) or None
+        The configuration, when it is not the mechanism's own.
+    parameters : dict
+        Parameter rows already evaluated at the configuration: ``tuple(params) →
+        (rows (k, D), labels)``, physical units, as
+        :func:`~symkin.numeric.geometric_matrix.parameters_matrix` gives them; any other
+        list is computed from the mechanism at ``xyz``.
+    """
+
+    mechanism: Mechanism
+    J: np.ndarray
+    free_index: np.ndarray
+    xyz: np.ndarray | None = None
+    parameters: dict = field(default_factory=dict)
+
+
+def model_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> ConfigurationRows:
+    """The rows of ``mech`` at its own configuration, from the NumPy core.
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> rows = model_rows(get("fourbar_appendix"))
+    >>> rows.J.shape, rows.free_index.tolist()
+    ((3, 8), [2, 3, 4, 5])
+    """
+    return ConfigurationRows(mech, constraint_rows(mech, tolerances).matrix, plan(mech.topology).free_index)
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,6 +105,11 @@ class MotionSpace:
         orthonormal basis of the left null space ``{y : yᵀ J_r = 0}`` (self-stresses).
     V_free : ndarray (n_free, L)
         The rows of ``V`` of the free coordinates (``V`` without its zero rows).
+    given : dict
+        Parameter rows evaluated with the constraint rows (:attr:`ConfigurationRows.parameters`).
+
+    The configuration is :attr:`xyz`: the mechanism's own coordinates, or those of the
+    :class:`ConfigurationRows` the space was computed from.
     """
 
     mechanism: Mechanism
@@ -68,6 +123,7 @@ class MotionSpace:
     U: np.ndarray | None = field(default=None, repr=False)
     V_free: np.ndarray | None = field(default=None, repr=False)
     _restricted: dict = field(default_factory=dict, repr=False)
+    given: dict = field(default_factory=dict, repr=False)
 
     @classmethod
     def _of(cls, **fields) -> "MotionSpace":
@@ -140,7 +196,8 @@ class MotionSpace:
 
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
-        p, labels = parameters_matrix(mech, params)
+        got = self.given.get(params)
+        p, labels = got if got is not None else parameters_matrix(mech, params, self.__dict__.get("xyz"))
         hat_free, norms = indicators.unit_rows(p.take(plan(mech.topology).free_index, axis=1))
         v_free = self.V_free if self.V_free is not None else self.V[plan(mech.topology).free_index]
         m = hat_free @ v_free
@@ -172,16 +229,30 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms.rank, ms.J.shape, ms.U.shape  # 3 bars, 4 free coordinates: no self-stress
     (3, (3, 4), (3, 3))
     """
-    pl = plan(mech.topology)
-    jf = constraint_rows(mech, tolerances).matrix.take(pl.free_index, axis=1)
+    return motion_space_of(model_rows(mech, tolerances), tolerances)
+
+
+def motion_space_of(rows: ConfigurationRows, tolerances: Tolerances = DEFAULT) -> MotionSpace:
+    """The motion space from the rows at a configuration (the computation of :func:`motion_space`).
+
+    Examples
+    --------
+    >>> from symkin.model.catalogue import get
+    >>> motion_space_of(model_rows(get("fourbar_appendix"))).dof
+    1
+    """
+    mech = rows.mechanism
+    free_index = rows.free_index
+    jf = rows.J.take(free_index, axis=1)
     u, s, vt = svd_factors(jf)
     threshold = tolerances.rank * (float(s[0]) if s.size else 0.0)
     rank = svd_rank(s, threshold)
     v_free = vt[rank:].T
-    v = np.zeros((pl.free.size, v_free.shape[1]))
-    v[pl.free_index] = v_free  # zero rows for the fixed coordinates
+    v = np.zeros((rows.J.shape[1], v_free.shape[1]))
+    v[free_index] = v_free  # zero rows for the fixed coordinates
     singular = np.zeros(jf.shape[1])  # ascending, with the structural zeros of a wide J_r first
     singular[jf.shape[1] - s.size:] = s[::-1]
     return MotionSpace._of(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
                            threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u, V_free=v_free,
-                           _restricted={})
+                           _restricted={}, given=rows.parameters,
+                           **({} if rows.xyz is None else {"xyz": rows.xyz}))

@@ -30,19 +30,23 @@ The DKP and IM tests, and the indicators recorded at every point, are values of 
 definition in :mod:`symkin.analysis.indicators`, on the rows of the mechanism's evaluators
 (so ``ev.batch`` and :func:`symkin.analyze` give the same numbers at the same
 configurations).  Minimum tests accept an event below ``Tolerances.event_threshold``;
-every located event is classified by :func:`symkin.analyze` with the same tolerances, and
-bifurcations get the second-order branch analysis of :mod:`symkin.paths.branching`.
+every located event is classified as :func:`symkin.analyze` classifies it, with the same
+tolerances (:func:`classify_event`: from the curve's own rows where they are the core's),
+and bifurcations get the second-order branch analysis of :mod:`symkin.paths.branching`.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from typing import Callable
 
+import casadi as ca
 import numpy as np
 
 from symkin.analysis import indicators
-from symkin.analysis.classification import Analysis, analyze
+from symkin.analysis.classification import Analysis, analyze, classify, platform_twist
+from symkin.analysis.motion_space import ConfigurationRows
 from symkin.curves.events import ArclengthLimit, Closed, EventType, ParameterReached, SingularEvent
 from symkin.curves.locate import polish
 from symkin.curves.stepper import CurvePoint, Settings, correct, point_at, tangent
@@ -58,7 +62,7 @@ from symkin.paths.system import MechanismCurve, make_curve
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["PathPoint", "PathEvent", "Path", "trace", "follow_branch", "relative_angle", "absolute_angle",
-           "CoordinateValues"]
+           "CoordinateValues", "classify_event", "curve_rows", "curve_rows_cover"]
 
 #: kinds in merging order: an event located by several tests takes the first of their kinds
 KIND_PRIORITY = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
@@ -740,7 +744,7 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
     events = []
     for item in traced.events:
         x = curve.x_of(item.y)
-        analysis = analyze(mech.with_coordinates(x), tol=tolerances)
+        analysis = classify_event(curve, item.y, tolerances)
         bif = (branch_directions(counted, item.y, rank_tol=tolerances.event_threshold)
                if (branch_analysis and item.kind == Kind.IM) else None)
         events.append(PathEvent(item.kind, item.p, item.s, x, analysis, item.value, item.evaluations,
@@ -762,6 +766,85 @@ def _run(counted, curve: MechanismCurve, y0, start, stop, max_arclength, setting
     return Path(mech, curve.drive.label, kind, tuple(points), tuple(events), reason, message, counted.total,
                 mech.node_names, curve, None if turn is None else turn.input, None if turn is None else turn.absolute,
                 unit)
+
+
+def curve_rows_cover(curve: MechanismCurve) -> bool:
+    """Whether the rows of ``curve``'s evaluators classify as :func:`symkin.analyze` does.
+
+    True for planar models without sliders or degenerate (collinear) bodies: their
+    evaluators' constraint and parameter rows are the core's, row for row, to rounding
+    (bars, planar rotation rows with the core's choice of node pair reproduced).  Not for
+    spatial models (the core's rotation rows of a spatial body, a rod, may pick other
+    rows), sliders (the normals of a line are chosen anew by the core), nor degenerate
+    bodies (the evaluators fix their frame and normals at the model's configuration, and
+    the statics' labels of their rigidity rows depend on them).
+    """
+    mech = curve.mech
+    return (mech.dim == 2 and not mech.sliders
+            and not any("rigidity" in owner for owner in curve.evaluators.row_owners))
+
+
+class _EventRows:
+    """One SX Function ``q ↦ [vec J; vec inputs; vec outputs; vec platform]``, called through buffers.
+
+    The evaluators' ``J`` and ``parameters`` in one call through CasADi's buffer interface
+    (a plain call and its conversions cost tens of µs, more than the NumPy core's rows).
+    """
+
+    def __init__(self, ev):
+        q = ca.SX.sym("q", ev.nf)
+        blocks = [ev.symbolic_function("J")(q)[0], *ev.symbolic_function("parameters")(q)]
+        self.function = ca.Function("event_rows", [q], [ca.vertcat(*(ca.vec(b) for b in blocks))], {"cse": True})
+        self.shapes = tuple(b.shape for b in blocks)
+        self._q, self._out = np.zeros(ev.nf), np.zeros(self.function.numel_out(0))
+        self._buf, self._trig = self.function.buffer()
+        self._buf.set_arg(0, memoryview(self._q))
+        self._buf.set_res(0, memoryview(self._out))
+
+    def __call__(self, q: np.ndarray) -> list[np.ndarray]:
+        """``J`` (m, D), inputs, outputs and platform rows (k, D) at ``q`` (new arrays)."""
+        self._q[:] = q
+        self._trig()
+        out, start = [], 0
+        for rows, cols in self.shapes:  # CasADi is column-major
+            out.append(self._out[start: start + rows * cols].reshape(cols, rows).T.copy())
+            start += rows * cols
+        return out
+
+
+@lru_cache(maxsize=64)
+def _event_rows(ev) -> _EventRows:
+    """The :class:`_EventRows` of an evaluators object (built once)."""
+    return _EventRows(ev)
+
+
+def curve_rows(curve: MechanismCurve, y: np.ndarray) -> ConfigurationRows:
+    """The rows at ``y`` from the curve's evaluators (``J`` and ``parameters`` at ``q = ℓ y``).
+
+    The input and output rows are given for the mechanism's inputs-then-outputs list, the
+    platform rows for its twist; the mechanism is the model's (topology and labels), the
+    configuration ``curve.x_of(y)``.
+    """
+    mech = curve.mech
+    ev = curve.evaluators
+    j, pin, pout, ppf = _event_rows(ev)(curve.q_of(y))
+    given = {tuple(mech.io_parameters): (np.vstack([pin, pout]), ev.input_labels + ev.output_labels)}
+    if mech.platform is not None:
+        given[tuple(platform_twist(mech)[0])] = (ppf, ev.platform_labels)
+    return ConfigurationRows(mech, j, np.flatnonzero(ev.free), curve.x_of(y), given)
+
+
+def classify_event(curve: MechanismCurve, y: np.ndarray, tolerances: Tolerances = DEFAULT) -> Analysis:
+    """The :class:`~symkin.analysis.classification.Analysis` of the event at ``y``.
+
+    From the curve's own rows (:func:`curve_rows`, no model rebuilt at the event) where
+    :func:`curve_rows_cover` says they are the core's; otherwise ``analyze`` of the
+    mechanism at the event's configuration (spatial models, sliders, degenerate bodies).
+    The analysis carries the configuration either way (``analysis.motion.xyz``).
+    """
+    if curve_rows_cover(curve):
+        return classify(curve_rows(curve, y), tolerances)
+    return analyze(curve.mech.with_coordinates(curve.x_of(y)), tol=tolerances)
 
 
 def _format_value(value: float, kind: str, unit: str) -> str:

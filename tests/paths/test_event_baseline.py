@@ -39,7 +39,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import symkin.paths.trace
 from symkin.kinds import Kind
 
 from .data.make_event_baseline import cases, events_of
@@ -52,16 +51,7 @@ BASELINE = json.loads((Path(__file__).parent / "data" / "event_baseline.json").r
 CASES = {source: mech for _, source, mech in cases()}
 
 
-@pytest.fixture(autouse=True)
-def _in_process_corrector(monkeypatch):
-    make_curve = symkin.paths.trace.make_curve
-
-    def in_process(*args, **kwargs):
-        curve = make_curve(*args, **kwargs)
-        curve.generated = "vm"
-        return curve
-
-    monkeypatch.setattr(symkin.paths.trace, "make_curve", in_process)
+pytestmark = pytest.mark.usefixtures("in_process_corrector")
 
 
 def _comparable(events: list[dict]) -> list[dict]:
