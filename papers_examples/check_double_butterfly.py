@@ -44,7 +44,7 @@ import symkin
 from symkin.errors import SymkinError
 from symkin.paths.branching import branch_directions
 from symkin.paths.trace import follow_branch, trace
-from symkin.paths.vertex import locate_branch_point
+from symkin.curves.locate import locate_singular_point
 from symkin.reproduce import Checklist
 
 HERE = Path(__file__).resolve().parent
@@ -238,8 +238,8 @@ def check_fig3_fig4(c: Checklist, mech: symkin.Mechanism, x_s: dict) -> None:
             {(2, ("IM",))})
     c.equal("... branch analysis: 'degenerate' (tangent branches), not a guess",
             {e.bifurcation.status for e in ims}, {"degenerate"})
-    # beyond the trace's σ₂ minimum: the branch point located again by deflated Newton (symkin.paths.vertex)
-    located = [locate_branch_point(path.curve, e.y) for e in ims]
+    # beyond the trace's σ₂ minimum: the branch point located again by deflated Newton (symkin.curves.locate)
+    located = [locate_singular_point(path.curve, e.y) for e in ims]
     c.true("... each IM event located again by deflated Newton is T1 to rounding (≤ 1e-12 length units; "
            "the singular system deflated twice)",
            all(b.converged and b.deflations == 2 for b in located)

@@ -126,7 +126,7 @@ def _csv(path, unit: str) -> str:
 def run(args) -> Output:
     from symkin.paths.trace import trace
 
-    from symkin.paths.continuation import Settings
+    from symkin.curves.stepper import Settings
 
     mech = read_model(args.model)
     settings = Settings()

@@ -14,7 +14,7 @@ path's inputs, the CasADi version, the generating sources, compiler and flags; w
 atomically) and called through CasADi's buffer interface, which removes the per-call
 overhead of a plain ``Function`` call.  Without a C compiler the in-process Function is
 used (same numbers, slower).  Over-constrained systems (non-square ``A``) keep the
-least-squares corrector of :mod:`symkin.paths.continuation`.
+least-squares corrector of :mod:`symkin.curves.stepper`.
 
 Redundant equations (over-constrained mechanisms, bodies with more nodes than a frame)
 are handled by keeping ``n − 1`` independent rows chosen at the start (QR with column

@@ -30,7 +30,7 @@ __all__ = ["MechanismCurve"]
 class MechanismCurve:
     """Curve problem of ``mech`` driven by ``drive`` with ``held`` inputs fixed at ``held_values``.
 
-    Implements the :class:`~symkin.paths.continuation.CurveProblem` protocol (residual,
+    Implements the :class:`~symkin.curves.stepper.CurveProblem` protocol (residual,
     Jacobian and, from CasADi Hessians, ``second_derivative``) in the dimensionless
     coordinates ``y``.  Everything is one CasADi expression graph: the closure, the held
     input coordinates and the drive, differentiated automatically.

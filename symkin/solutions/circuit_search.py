@@ -17,11 +17,12 @@ from symkin.analysis.classification import analyze
 from symkin.errors import NotConvergedError, SymkinError
 from symkin.kinds import Kind
 from symkin.model.mechanism import Mechanism
-from symkin.paths.continuation import CurvePoint, point_at, tangent
-from symkin.paths.events import TestFunction, locate_sign_change
+from symkin.curves.stepper import CurvePoint, point_at, tangent
+from symkin.curves.events import TestFunction
+from symkin.curves.locate import locate_sign_change, locate_singular_point
 from symkin.paths.system import make_curve
 from symkin.paths.trace import Path, trace
-from symkin.paths.vertex import HALF_BRANCH_RADIUS, half_branches, locate_branch_point
+from symkin.curves.branches import HALF_BRANCH_RADIUS, half_branches
 from symkin.solutions.frame_coordinates import CoordinateValue, flat_coordinates, format_value, free_coordinates, wrap
 from symkin.solutions.seeding import cluster
 from symkin.tolerances import Tolerances
@@ -112,7 +113,7 @@ class CircuitSearch:
     Attributes
     ----------
     ``paths`` holds ``(Path, offset, inputs)`` per traced branch (inputs unwrapped, in the model's
-    frame); ``vertices`` every branch point located exactly (:mod:`symkin.paths.vertex`): its
+    frame); ``vertices`` every branch point located exactly (:func:`symkin.curves.locate.locate_singular_point`): its
     coordinates, its analysis, its half-branch points and the branches through it; ``groups``
     lists branches known to be one circuit (a forward and a backward trace from one seed).
     """
@@ -288,7 +289,7 @@ class CircuitSearch:
         """The vertex (branch point of nullity 2) located from ``y0``, registered if new; None when there is none."""
         if not self.singular(y0):
             return None  # a regular point of the curve (a DKP configuration)
-        bp = locate_branch_point(self.curve, y0)
+        bp = locate_singular_point(self.curve, y0)
         if not bp.converged or bp.residual > 1e-12:
             return None
         q = self.curve.q_of(bp.y)

@@ -20,15 +20,15 @@ on the paths it simulates; this module makes the search global:
 3. **Branches.**  Each seed not yet on a traced branch is traced by :func:`symkin.trace` (the
    existing pseudo-arclength continuation with its event location) until the path closes
    on itself; a seed is on a traced branch when the path passes through it: the crossing
-   of its input value is located on the path (:func:`~symkin.paths.events.locate_sign_change`)
+   of its input value is located on the path (:func:`~symkin.curves.locate.locate_sign_change`)
    and is within :attr:`Tolerances.same_configuration` (units of the length scale) of it.
    A critical point seeds the two half-branches that leave it (curve points
-   :data:`~symkin.paths.vertex.HALF_BRANCH_RADIUS` away, traced outwards).
+   :data:`~symkin.curves.branches.HALF_BRANCH_RADIUS` away, traced outwards).
    **Branch points.**  Every IM event of nullity 2 that a trace locates is located again,
-   to rounding, by :func:`~symkin.paths.vertex.locate_branch_point` (deflated Newton: also
+   to rounding, by :func:`~symkin.curves.locate.locate_singular_point` (deflated Newton: also
    where two branches are *tangent*, as at the double butterfly's contacts with its LIM
    branch, where the trace's own event is 1e-6 to 1e-3 off), and every half-branch that
-   leaves it (:func:`~symkin.paths.vertex.half_branches`: 4 for two branches) is traced
+   leaves it (:func:`~symkin.curves.branches.half_branches`: 4 for two branches) is traced
    outwards unless a traced branch already passes through it.  At a tangent contact the
    continuation may go on along either branch; the half-branches make the search
    complete whichever it took, and the answer independent of it.

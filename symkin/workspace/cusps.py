@@ -41,7 +41,7 @@ def locate_cusp(pb: LocusProblems, problem: CurveFunction, a: CurvePoint, b: Cur
     the axis velocity ``v = ∂A/∂y · t`` (:func:`axis_velocity`) vanishes while the curve moves
     (``t`` is a unit tangent): ``v`` turns back there, ``v(s) ≈ (s − s₀)·w``.  The caller
     brackets it by ``v(a) · v(b) < 0``; the root of the signed scalar ``v(s) · v(a)/‖v(a)‖`` is
-    located along the curve (:func:`symkin.paths.events.locate_sign_change`: Brent's method on
+    located along the curve (:func:`symkin.curves.locate.locate_sign_change`: Brent's method on
     the arclength of the Newton-projected curve, to ``1e-14``), where both components of ``v``
     vanish at a cusp.  It is a cusp when the relative axis speed there
     (:func:`relative_axis_speed`, scale invariant) is at most :attr:`Tolerances.event_threshold`

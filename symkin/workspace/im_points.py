@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from symkin.paths.events import refine_rank_drop
+from symkin.curves.locate import locate_singular_point
 from symkin.tolerances import DEFAULT, Tolerances
 from symkin.workspace import quadtree
 from symkin.workspace.locus_problems import LOCUS_NEWTON_TOL, LocusProblems
@@ -50,7 +50,7 @@ def im_candidates(grid: GridData) -> list[tuple[int, int]]:
 def locate_im(pb: LocusProblems, y0: np.ndarray, tol: Tolerances = DEFAULT) -> np.ndarray | None:
     """An IM configuration near ``y0``: where the surface ``(Φ_S/ℓ, holds) = 0`` loses rank.
 
-    :func:`symkin.paths.events.refine_rank_drop` (Gauss–Newton on the constraints, a left
+    :func:`symkin.curves.locate.locate_singular_point` without deflation (Gauss–Newton on the constraints, a left
     null vector ``ψ`` of their Jacobian and its normalisation) from the grid configuration
     of an IM-indicator minimum.  Where the IM configurations at that point form a family
     (Fig. 14: with P on the common pivot the collapsed rhombus turns freely about it) the
@@ -59,7 +59,8 @@ def locate_im(pb: LocusProblems, y0: np.ndarray, tol: Tolerances = DEFAULT) -> n
     relative ``σ_{F+1}`` is at most :attr:`Tolerances.event_threshold` (as a path event).
     None otherwise.  The caller asks the core whether the configuration is IM.
     """
-    y, ok = refine_rank_drop(pb.constraints(), y0, 1)
+    found = locate_singular_point(pb.constraints(), y0, 1, max_deflations=0)
+    y, ok = found.y, found.converged
     if not np.all(np.isfinite(y)):
         return None
     if not ok:

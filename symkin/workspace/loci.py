@@ -73,7 +73,7 @@ Algorithm
    points, then the node) takes one batched Gauss–Newton polish towards a rank drop of the
    constraints (:meth:`LocusProblems.polish_rank_drop_many`), and a minimum is refined only when
    the smallest relative IM indicator reached is at most :attr:`Tolerances.event_threshold`;
-   then :func:`symkin.paths.events.refine_rank_drop` looks for a nearby configuration where
+   then :func:`symkin.curves.locate.locate_singular_point` looks for a nearby configuration where
    the constraints lose rank (:func:`symkin.workspace.im_points.locate_im`); the core decides
    whether it is IM (it is then reported).
 4b. **LIM points** (F ≥ 2) — at each grid node whose relative LIM indicator (the grid's

@@ -323,7 +323,7 @@ class LocusProblems:
     def polish_rank_drop_many(self, y0: np.ndarray, iterations: int) -> np.ndarray:
         """Gauss–Newton steps towards a rank drop of the constraints from each row of ``y0`` (N, nf), one batch.
 
-        The system of :func:`symkin.paths.events.refine_rank_drop` with ``drop = 1``:
+        The system of :func:`symkin.curves.locate.locate_singular_point` with ``drop = 1``:
         ``(Φ_S/ℓ, holds)(y) = 0``, ``C'(y)ᵀ ψ = 0``, ``ψ · ψ⁰ = 1`` in ``(y, ψ)``, ``ψ⁰`` the
         left singular vector of the smallest singular value of ``C'(y0)``, here with the
         exact second derivatives (CasADi) and all starts at once
@@ -509,5 +509,5 @@ class CountedFunction:
 
 
 class CurveFunction(CountedFunction):
-    """The locus ``(Φ/ℓ, holds, T)(y) = 0`` as a :class:`~symkin.paths.continuation.CurveProblem`."""
+    """The locus ``(Φ/ℓ, holds, T)(y) = 0`` as a :class:`~symkin.curves.stepper.CurveProblem`."""
 

@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from symkin.model import catalogue
-from symkin.paths.events import refine_rank_drop
+from symkin.curves.locate import locate_singular_point
 from symkin.paths.system import make_curve
 
 
@@ -18,7 +18,7 @@ def circle_intersection(c0, r0, c1, r1, side):
     return np.asarray(c0) + along * e + side * h * np.array([-e[1], e[0]])
 
 
-def test_refine_rank_drop_finds_the_flattened_peaucellier_pose_from_a_nearby_a_equals_b_pose():
+def test_the_locator_finds_the_flattened_peaucellier_pose_from_a_nearby_a_equals_b_pose():
     m = catalogue.get("peaucellier")
     curve = make_curve(m)
     x = m.coordinates()
@@ -36,7 +36,8 @@ def test_refine_rank_drop_finds_the_flattened_peaucellier_pose_from_a_nearby_a_e
     assert np.linalg.norm(curve.residual(y)) < 1e-12
     s = np.linalg.svd(curve.jacobian(y), compute_uv=False)
     assert s[-1] < 1e-12 < 1e-3 < s[-2]  # one rank loss here
-    found, converged = refine_rank_drop(curve, y, 2)
+    point = locate_singular_point(curve, y, 2, max_deflations=0)
+    found, converged = point.y, point.converged
     assert converged and np.linalg.norm(curve.residual(found)) < 1e-12
     s = np.linalg.svd(curve.jacobian(found), compute_uv=False)
     assert s[-2] < 1e-12  # two rank losses: the flattened pose

@@ -19,7 +19,8 @@ import pytest
 from symkin import Mechanism
 from symkin.model.model_file import read_model
 from symkin.paths.system import make_curve
-from symkin.paths.vertex import HALF_BRANCH_RADIUS, half_branches, locate_branch_point
+from symkin.curves.branches import HALF_BRANCH_RADIUS, half_branches
+from symkin.curves.locate import locate_singular_point as locate_branch_point
 from tests.conftest import EXAMPLES
 
 

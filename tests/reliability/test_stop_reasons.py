@@ -36,9 +36,9 @@ def test_other_reasons_unchanged(kwargs, reason):
 @pytest.fixture
 def small_budget(monkeypatch):
     """The command's continuation settings with a budget of 20 steps (``--steps`` up to 10)."""
-    import symkin.paths.continuation as continuation
+    import symkin.curves.stepper as stepper
 
-    monkeypatch.setattr(continuation, "Settings", functools.partial(Settings, max_steps=20))
+    monkeypatch.setattr(stepper, "Settings", functools.partial(Settings, max_steps=20))
 
 
 def test_path_cli_says_the_budget_ran_out(small_budget, capsys):

@@ -233,7 +233,7 @@ def test_the_two_tangent_contacts_with_the_lim_branch_exactly(cli_json, butterfl
     scale = max(np.ptp(np.array(list(x.values())), axis=0))
     for s, t in zip(im, t_inputs):
         assert s["types"] == ["IM"] and s["dof"] == 2
-        # located by deflation (symkin.paths.vertex), not by the trace's minimum of σ₂ (~1e-3°)
+        # located by deflation (symkin.curves.locate), not by the trace's minimum of σ₂ (~1e-3°)
         assert abs(wrap_deg(s["input"] - t)) <= 1e-9
         for n in ("C", "Q2"):
             assert np.linalg.norm(np.array(s["configuration"][n]) - x["P2"]) <= 1e-12 * scale
