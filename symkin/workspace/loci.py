@@ -76,11 +76,12 @@ Algorithm
    then :func:`symkin.curves.locate.locate_singular_point` looks for a nearby configuration where
    the constraints lose rank (:func:`symkin.workspace.im_points.locate_im`); the core decides
    whether it is IM (it is then reported).
-4b. **LIM points** (F ≥ 2) — at each grid node whose relative LIM indicator (the grid's
+
+   **4b. LIM points** (F ≥ 2) — at each grid node whose relative LIM indicator (the grid's
    ``lim_indicator``: the smallest over the links turning about a fixed pivot) is a minimum along
    a grid line, every pivoted link takes one batched Gauss–Newton polish towards
-   ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` (:meth:`LocusProblems.polish_lim_many`); a start converged on the slice, in the
-   box whose link indicator is at most :attr:`Tolerances.event_threshold` is reported as a point of
+   ``(Φ_S/ℓ, J_Sᵀψ + u) = 0`` (:meth:`LocusProblems.polish_lim_many`); a start converged on the
+   slice, in the box, whose link indicator is at most :attr:`Tolerances.event_threshold` is reported as a point of
    kind ``"LIM"`` when :func:`symkin.analyze` there says LIM with that link locked
    (:mod:`symkin.workspace.lim_points`).
 5. **Dips, quadtree, double zeros** — a grid point whose ``|T|`` is a near-zero minimum along
