@@ -8,7 +8,7 @@ configurations in closed kinematic chains", IEEE T-RO 20(6), 2004.
 >>> result.dof, result.types
 (2, ('IM',))
 """
-from symkin.errors import exit_on_early_interrupt
+from symkin.startup import exit_on_early_interrupt
 
 exit_on_early_interrupt()  # first: in the symkin program, a Ctrl-C while the imports below run exits 130
 

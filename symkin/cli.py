@@ -10,7 +10,7 @@ claim that does not hold); 2 a user error (bad file, bad option); 3 an internal 
 line; also when the interrupt surfaced wrapped in another exception, or was swallowed).
 A Ctrl-C before :func:`main` runs (while Python imports the package) also exits 130 with one
 line: ``import symkin`` installs that handling first of all when the process is the ``symkin``
-program (:func:`symkin.errors.exit_on_early_interrupt`), and :func:`main` replaces it.
+program (:func:`symkin.startup.exit_on_early_interrupt`), and :func:`main` replaces it.
 """
 from __future__ import annotations
 

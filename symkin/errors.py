@@ -99,50 +99,6 @@ def note_interrupt() -> bool:
     return True
 
 
-def is_symkin_program() -> bool:
-    """True when this process is the ``symkin`` program (its console script or ``python -m symkin``).
-
-    Read from ``sys.orig_argv`` and the ``__main__`` module's file, so that it holds while the
-    package is still being imported (before :func:`symkin.cli.main` runs).
-    """
-    import os
-    import sys
-
-    main_file = getattr(sys.modules.get("__main__"), "__file__", None) or ""
-    if os.path.basename(main_file).removesuffix(".exe") in ("symkin", "symkin-script.py"):
-        return True
-    argv = list(getattr(sys, "orig_argv", sys.argv))
-    return any(a == "-m" and b in ("symkin", "symkin.cli") for a, b in zip(argv, argv[1:]))
-
-
-def _exit_interrupted(signum, frame):  # pragma: no cover - ends the process
-    import os
-
-    os.write(2, b"symkin: interrupted\n")
-    os._exit(130)
-
-
-def exit_on_early_interrupt() -> None:
-    """In the ``symkin`` program, make a Ctrl-C before :func:`symkin.cli.main` runs exit 130 with one line.
-
-    Called first thing by ``symkin/__init__.py`` (and again by :mod:`symkin.cli` and
-    ``python -m symkin``), before numpy and the model stage are imported: a SIGINT while the
-    program starts writes ``symkin: interrupted`` and exits 130 at once (nothing has been
-    written yet), where Python would print a ``KeyboardInterrupt`` traceback from inside an
-    import.  :func:`symkin.cli.main` installs its own handler when it starts.  Does nothing
-    when symkin is imported as a library (the caller's handler stays) or off the main thread.
-    """
-    import signal
-
-    if not is_symkin_program():
-        return
-    try:
-        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-            signal.signal(signal.SIGINT, _exit_interrupted)
-    except ValueError:  # not the main thread
-        pass
-
-
 def interrupt_seen() -> bool:
     """True once a SIGINT arrived during this command (even if some code swallowed the exception)."""
     return _INTERRUPT["seen"]
