@@ -163,8 +163,7 @@ ALLOWED_LITERALS: dict[str, dict[str, tuple[int, str]]] = {
     "symkin/solutions/solve_all.py": {"1e-12": (1, "NEWTON_TARGET"), "1e-10": (2, "NEWTON_ACCEPT and a "
                                       "prescribed value's check"), "1e-15": (1, "NEWTON_STEP"),
                                       "1e-8": (2, "VERIFY and the imaginary part of a real solution"),
-                                      "1e-4": (1, "near-real solutions, refined"), "1e-6": (1, "distinct "
-                                      "complex solutions")},
+                                      "1e-4": (1, "near-real solutions, refined")},
     "symkin/solutions/square_solutions.py": {"1e-4": (1, "NEAR_REAL"), "1e-10": (1, "AT_INFINITY")},
     "symkin/solutions/system.py": {"1e-300": (1, _GUARD)},
     "symkin/symbolic/conditions.py": {"1e-300": (1, _GUARD)},

@@ -16,9 +16,15 @@ model's length scale ``L`` (so the decisions do not depend on the unit of length
 * **rejected** when it is real but Newton on the original equations does not bring the residual
   below ``1e-10`` or moves it by more than ``near_real`` (a solution of the squared-up system
   only, which Newton's least-squares steps carry to a true one): counted, not returned;
-* **complex** otherwise (distinct endpoints counted);
+* **complex** otherwise: complex Newton on the original equations (the real form of twice the
+  size, :func:`symkin.curves.corrector.real_form`) must reach a residual ``<= 1e-10`` without
+  moving more than ``near_real``, else the endpoint is **rejected** (a solution of the squared-up
+  or reduced system only); ``complex`` counts the distinct verified complex solutions
+  (conjugates are distinct);
 * **at infinity** when the homogenising coordinate vanishes (counted).
 
+Every endpoint, real or complex, is refined by complex Newton on the original equations first.
+``failed`` counts paths that did not reach ``t = 1`` (parameter homotopy).
 ``near_real``, ``rejected``, ``at_infinity`` and ``filtered`` count paths; ``complex`` counts distinct
 endpoints; paths ending at one real solution are its ``multiplicity``.
 
@@ -42,15 +48,17 @@ import sympy as sp
 
 from symkin.analysis.batch import evaluators_for
 from symkin.analysis.classification import Analysis, analyze as _analyze
-from symkin.curves.corrector import gauss_newton
+from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
 from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
 from symkin.tolerances import Tolerances
 
-__all__ = ["Solution", "Solutions", "solve_all"]
+__all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
+#: the ways of solving: a parameter homotopy from cached generic solutions, or Bertini's total-degree homotopy
+METHODS = ("parameter", "total-degree")
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
@@ -128,6 +136,8 @@ class Solutions:
     equations: int
     seconds: float
     track_seconds: float
+    failed: int = 0
+    method: str = "total-degree"
 
     def __len__(self) -> int:
         return len(self.solutions)
@@ -140,7 +150,8 @@ class Solutions:
         """``{"solutions": [...], "complex": k, "paths": total, ...}`` (the ``--json`` of ``symkin modes``)."""
         return {"solutions": [s.to_dict() for s in self.solutions], "complex": self.complex, "paths": self.paths,
                 "real": len(self.solutions), "near_real": self.near_real, "at_infinity": self.at_infinity,
-                "filtered": self.filtered, "rejected": self.rejected, "unverified": self.unverified, "unknowns": self.unknowns, "equations": self.equations,
+                "filtered": self.filtered, "rejected": self.rejected, "unverified": self.unverified,
+                "failed": self.failed, "method": self.method, "unknowns": self.unknowns, "equations": self.equations,
                 "values": dict(self.values), "unit": self.unit, "seconds": self.seconds,
                 "track_seconds": self.track_seconds}
 
@@ -165,6 +176,8 @@ class _Checks:
         j = sp.lambdify([u], sp.Matrix(eqs).jacobian(u), "numpy")
         self.f = lambda v: np.array(f(v), float).ravel()
         self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
+        self.fc = lambda v: np.array(f(v), complex).ravel()
+        self.jc = lambda v: np.array(j(v), complex).reshape(len(eqs), len(u))
         self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy")
         self.prescribed = prescribed
         self.system = system
@@ -193,7 +206,7 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000) -> Solutions:
+              max_paths: int = 5000, method: str = "total-degree") -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
     The assembly modes when inputs are prescribed (forward problem), the working modes when
@@ -237,6 +250,8 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     (2, 4)
     """
     start = time.perf_counter()
+    if method not in METHODS:
+        raise SymkinError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     tol = Tolerances.of(tol)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
@@ -256,9 +271,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         ends = np.ones((1, 1), complex)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
-    ev = evaluators_for(mech, tol)
-    real_u, complex_pts, near, infinite, filtered, rejected = [], [], 0, 0, 0, 0
-    residuals, counts = [], []
+    points, infinite = [], 0
     for v in ends:
         h = v[0]
         if abs(h) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
@@ -268,39 +281,99 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         if not np.all(np.isfinite(w)) or float(np.max(np.abs(w), initial=0.0)) > 1e8:
             infinite += 1
             continue
-        u = system.recover(w)
-        im = float(np.max(np.abs(u.imag), initial=0.0))
+        points.append(system.recover(w))
+    sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
+    return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze,
+                   paths=int(len(ends)) if n else 0, at_infinity=infinite, failed=0,
+                   seconds=time.perf_counter() - start, track_seconds=track_seconds, method="total-degree")
+
+
+@dataclass
+class Endpoints:
+    """Endpoints sorted by :func:`sort_endpoints` (see the module docstring for the classes)."""
+
+    real: list = field(default_factory=list)
+    residuals: list = field(default_factory=list)
+    counts: list = field(default_factory=list)
+    complex: list = field(default_factory=list)
+    near_real: int = 0
+    filtered: int = 0
+    rejected: int = 0
+
+
+def sort_endpoints(checks: "_Checks", points, tol: Tolerances, imaginary: float,
+                   near_real: float) -> Endpoints:
+    """Refine every finite endpoint by Newton on the original equations, then sort it (module docstring).
+
+    Parameters
+    ----------
+    checks : _Checks
+        The original equations (real and complex), filters and prescribed values of one system.
+    points : sequence of ndarray
+        Full dimensionless vectors ``u`` (complex) of the endpoints.
+    tol : Tolerances
+    imaginary, near_real : float
+        Thresholds on ``max |Im u|``.
+
+    Returns
+    -------
+    Endpoints
+        Real solutions (refined, deduplicated, with multiplicities), distinct verified complex
+        solutions, and the counts of near-real, filtered and rejected endpoints.
+    """
+    out = Endpoints()
+    for u in points:
+        u = np.asarray(u, complex)
+        # complex Newton on the original (not squared-up, not reduced) equations, in real form
+        uc, res = _complex_newton(checks, u)
+        if res > NEWTON_ACCEPT or float(np.max(np.abs(uc - u), initial=0.0)) > near_real * max(
+                1.0, float(np.max(np.abs(u), initial=0.0))):
+            out.rejected += 1  # e.g. a solution of the squared-up system only
+            continue
+        im = float(np.max(np.abs(uc.imag), initial=0.0))
         if im > near_real:
-            complex_pts.append(u)
+            if _duplicate(uc, out.complex, tol.same_configuration) is None:
+                out.complex.append(uc)
             continue
-        ur, res = _newton(checks.f, checks.jac, np.array(u.real, float))
         if im > imaginary:
-            near += 1
+            out.near_real += 1
             continue
-        if res > NEWTON_ACCEPT or float(np.max(np.abs(ur - u.real), initial=0.0)) > near_real:
-            # e.g. a solution of the squared-up system only: Newton fails, or leaves for another solution
-            rejected += 1
+        ur, res = _newton(checks.f, checks.jac, np.array(uc.real, float))
+        if res > NEWTON_ACCEPT or float(np.max(np.abs(ur - uc.real), initial=0.0)) > near_real:
+            out.rejected += 1
             continue
-        same = _duplicate(ur, real_u, tol.same_configuration)
+        same = _duplicate(ur, out.real, tol.same_configuration)
         if same is not None:
-            counts[same] += 1
+            out.counts[same] += 1
             continue
         if any(float(fv) <= tol.geometry for fv in np.atleast_1d(checks.filters(ur))):
-            filtered += 1
+            out.filtered += 1
             continue
-        real_u.append(ur)
-        residuals.append(res)
-        counts.append(1)
-    distinct_complex = []
-    for u in complex_pts:
-        if _duplicate(u, distinct_complex, 1e-6) is None:
-            distinct_complex.append(u)
-    coords = [system.coordinates(u) for u in real_u]
-    sols = _label(mech, ev, coords, residuals, counts, checks, tol, do_analyze)
+        out.real.append(ur)
+        out.residuals.append(res)
+        out.counts.append(1)
+    return out
+
+
+def _complex_newton(checks: "_Checks", u: np.ndarray) -> tuple[np.ndarray, float]:
+    """Gauss–Newton on the original equations at a complex point (real form of twice the size)."""
+    if not u.size:
+        return u, 0.0
+    n = u.size
+    c = gauss_newton(real_form(lambda x: (checks.fc(x), checks.jc(x))), np.concatenate([u.real, u.imag]),
+                     tol=NEWTON_TARGET, max_iterations=30, step_tol=NEWTON_STEP, norm="max")
+    return c.z[:n] + 1j * c.z[n:], c.residual
+
+
+def _result(mech, values, unit, system, checks, e: Endpoints, tol, do_analyze, *, paths, at_infinity, failed,
+            seconds, track_seconds, method) -> "Solutions":
+    ev = evaluators_for(mech, tol)
+    coords = [system.coordinates(u) for u in e.real]
+    sols = _label(mech, ev, coords, e.residuals, e.counts, checks, tol, do_analyze)
     sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
-    return Solutions(mech, dict(values), unit, tuple(sols), len(distinct_complex), near, infinite, filtered,
-                     rejected, len(coords) - len(sols), int(len(ends)) if n else 0, n, len(system.reduced), time.perf_counter() - start,
-                     track_seconds)
+    return Solutions(mech, dict(values), unit, tuple(sols), len(e.complex), e.near_real, at_infinity, e.filtered,
+                     e.rejected, len(coords) - len(sols), paths, len(system.solve_for), len(system.reduced),
+                     seconds, track_seconds, failed, method)
 
 
 def _duplicate(u, seen, distance: float) -> int | None:

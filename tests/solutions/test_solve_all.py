@@ -384,3 +384,65 @@ def test_a_failed_bertini_solve_is_retried_then_reported(monkeypatch):
     calls.update(n=0, fail=homotopy.RETRIES)
     with pytest.raises(SymkinError, match="failed 3 times"):
         homotopy.track([x**2 - 1, y - 2], [x, y], endgame="power_series")
+
+
+# ---------------------------------------------------------------- every endpoint verified (issue 17 §2)
+def _spurious_complex_endpoint(system, eqs):
+    """A complex root of the squared-up equations ``eqs`` that fails the original equations (Newton from random starts)."""
+    import sympy as sp
+
+    from symkin.curves.corrector import gauss_newton, real_form
+
+    v = list(system.solve_for)
+    f = sp.lambdify([v], eqs, "numpy")
+    j = sp.lambdify([v], sp.Matrix(eqs).jacobian(v), "numpy")
+    orig = sp.lambdify([list(system.unknowns)], [e for _, e in system.equations], "numpy")
+    fun = real_form(lambda x: (np.array(f(x), complex), np.array(j(x), complex).reshape(len(eqs), len(v))))
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        z0 = rng.standard_normal(2 * len(v))
+        c = gauss_newton(fun, z0, tol=1e-13, max_iterations=50)
+        w = c.z[:len(v)] + 1j * c.z[len(v):]
+        if c.converged and np.max(np.abs(w.imag)) > 1e-3 and \
+                np.max(np.abs(np.array(orig(system.recover(w)), complex))) > 1e-3:
+            return w
+    raise AssertionError("no spurious complex root found")
+
+
+def test_complex_endpoint_of_the_squared_up_system_only_is_not_counted(monkeypatch):
+    import sympy as sp
+
+    import importlib
+
+    sa = importlib.import_module("symkin.solutions.solve_all")
+
+    m = catalogue.get("braced_square")
+    system = position_system(m, {})
+    # squared up by complex random combinations: its extra roots are complex
+    a = np.random.default_rng(1).standard_normal((len(system.solve_for), len(system.reduced), 2))
+    eqs = [sp.expand(sum(complex(*a[i, k]) * e for k, e in enumerate(system.reduced)))
+           for i in range(len(system.solve_for))]
+    w = _spurious_complex_endpoint(system, eqs)
+    plain = solve_all(m, {})
+    real_track = sa.track
+    monkeypatch.setattr(sa, "track", lambda e, u, **k: np.vstack([real_track(e, u, **k),
+                                                                  np.concatenate([[1.0], w])[None, :]]))
+    result = solve_all(m, {})
+    assert result.complex == plain.complex  # the spurious complex endpoint is not a solution
+    assert result.rejected == plain.rejected + 1 and result.to_dict()["rejected"] == result.rejected
+    assert len(result.solutions) == len(plain.solutions) == 2
+
+
+@pytest.mark.slow
+def test_planar_gough_stewart_counts_only_verified_complex_solutions():
+    """4 real + 24 complex, as PHCpack's polyhedral blackbox on a 9-unknown formulation (issue 17)."""
+    from pathlib import Path
+
+    from symkin.model.model_file import read_model
+
+    m = read_model(Path(__file__).resolve().parents[1] / "workspace" / "models" / "gough_stewart.toml")
+    values = {f"slide:s{i}": 0.0 for i in range(1, 7)}
+    values["slide:s1"] = 0.05
+    result = solve_all(m, values, method="total-degree")
+    # before verification 28 were counted: 4 endpoints of the reduced system fail the original equations
+    assert len(result.solutions) == 4 and result.complex == 24 and result.rejected == 4
