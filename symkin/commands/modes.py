@@ -25,6 +25,11 @@ def add_arguments(p) -> None:
     p.add_argument("--analyze", action="store_true", help="classify every solution (symkin analyze)")
     p.add_argument("--max-paths", type=int, default=5000,
                    help="refuse a homotopy of more paths than this (default 5000)")
+    p.add_argument("--method", choices=("parameter", "total-degree"), default="parameter",
+                   help="parameter: track only the solutions of the model's parameter homotopy from generic "
+                        "values (made once by monodromy and cached with the model's artefacts; falls back to "
+                        "total-degree when it does not apply); total-degree: Bertini 2's total-degree "
+                        "homotopy (the extra symkin[global]) (default parameter)")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the DKP labels (default 1e-8)")
 
@@ -75,7 +80,8 @@ def _text(result) -> str:
     lines = [f"{mech.name}: {len(result.solutions)} real solution(s) at "
              + ", ".join(f"{k} = {v:g}" for k, v in result.values.items())
              + f" ({result.unit} for angles); {result.complex} complex, {result.near_real} near-real, "
-               f"{result.at_infinity} at infinity; {result.paths} paths tracked in {result.track_seconds:.2f} s "
+               f"{result.at_infinity} at infinity, {result.rejected} rejected, {result.failed} failed; "
+               f"{result.paths} paths ({result.method}) tracked in {result.track_seconds:.2f} s "
                f"({result.seconds:.2f} s in all).", ""]
     for k, s in enumerate(result.solutions, 1):
         signs = ", ".join(f"{key} {'' if v is None else ('+' if v > 0 else '-' if v < 0 else '0')}"
@@ -100,7 +106,7 @@ def run(args) -> Output:
     values = parse_values(args.at)
     try:
         result = solve_all(mech, values, unit=args.unit, tol=args.tol, analyze=args.analyze,
-                           max_paths=args.max_paths)
+                           max_paths=args.max_paths, method=args.method)
     except SymkinError as exc:
         raise in_file(exc, args.model)
     if args.json:

@@ -49,7 +49,7 @@ from symkin.errors import NotConvergedError
 from symkin.tolerances import DEFAULT
 
 __all__ = ["Correction", "BatchCorrection", "NonFiniteError", "gauss_newton", "gauss_newton_batch",
-           "least_squares_step", "real_form", "stacked_steps"]
+           "least_squares_step", "real_form", "real_form_batch", "stacked_steps"]
 
 _DIVERGED = 1e6   # a residual above this (dimensionless) has left every solution behind
 
@@ -186,6 +186,31 @@ def real_form(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
         f = np.asarray(f, complex).ravel()
         j = np.asarray(j, complex).reshape(f.size, n)
         return np.concatenate([f.real, f.imag]), np.block([[j.real, -j.imag], [j.imag, j.real]])
+
+    return real
+
+
+def real_form_batch(fun: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+                    ) -> Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """:func:`real_form` for :func:`gauss_newton_batch`: ``fun(X, index) -> (F (k, m), F' (k, m, n))``, complex.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = lambda x, idx: (x * x + 1.0, 2 * x[:, :, None])   # x² = −1, one unknown per row
+    >>> b = gauss_newton_batch(real_form_batch(square), np.array([[0.3, 0.8], [0.2, -0.9]]))
+    >>> b.converged.tolist(), np.round(b.z[:, 1], 12).tolist()
+    ([True, True], [1.0, -1.0])
+    """
+    def real(z, index):
+        z = np.asarray(z, float)
+        n = z.shape[1] // 2
+        f, j = fun(z[:, :n] + 1j * z[:, n:], index)
+        f = np.asarray(f, complex).reshape(z.shape[0], -1)
+        j = np.asarray(j, complex).reshape(z.shape[0], f.shape[1], n)
+        top = np.concatenate([j.real, -j.imag], axis=2)
+        bottom = np.concatenate([j.imag, j.real], axis=2)
+        return np.concatenate([f.real, f.imag], axis=1), np.concatenate([top, bottom], axis=1)
 
     return real
 

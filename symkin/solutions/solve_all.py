@@ -59,6 +59,8 @@ __all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
 #: the ways of solving: a parameter homotopy from cached generic solutions, or Bertini's total-degree homotopy
 METHODS = ("parameter", "total-degree")
+#: largest relative distance of a query's coefficients from the parameter family (rounding of the samples)
+SPAN_OFF = 1e-8
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
@@ -179,6 +181,7 @@ class _Checks:
         self.fc = lambda v: np.array(f(v), complex).ravel()
         self.jc = lambda v: np.array(j(v), complex).reshape(len(eqs), len(u))
         self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy")
+        self.filters_c = lambda v: np.array(self.filters(v), complex)
         self.prescribed = prescribed
         self.system = system
         import casadi as ca
@@ -206,7 +209,7 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000, method: str = "total-degree") -> Solutions:
+              max_paths: int = 5000, method: str = "parameter", cache: bool = True) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
     The assembly modes when inputs are prescribed (forward problem), the working modes when
@@ -255,8 +258,13 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     tol = Tolerances.of(tol)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
-    require_solver()
     system = position_system(mech, values, unit, tol)
+    if method == "parameter":
+        result = _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real,
+                                  seed, cache, start)
+        if result is not None:
+            return result
+    require_solver()
     n = len(system.solve_for)
     eqs = square_up(system.reduced, n, seed=seed)
     degree = total_degree(eqs, list(system.solve_for)) if n else 1
@@ -286,6 +294,34 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze,
                    paths=int(len(ends)) if n else 0, at_infinity=infinite, failed=0,
                    seconds=time.perf_counter() - start, track_seconds=track_seconds, method="total-degree")
+
+
+def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
+                     start) -> "Solutions | None":
+    """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply."""
+    from symkin.solutions.monodromy import start_solutions
+    from symkin.solutions.parameter_homotopy import track_parameters
+
+    if not system.unknowns:
+        return None
+    try:
+        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache)
+    except SymkinError:
+        return None
+    if starts is None or not starts.family.rank:
+        return None  # no first solution, or nothing to loop around (no prescribed value)
+    family = starts.family
+    lam, off = family.parameters(system.equations, list(system.unknowns))
+    if off > SPAN_OFF:
+        return None  # the query is not in the sampled family (a degenerate sample): total degree
+    t0 = time.perf_counter()
+    tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed))
+    track_seconds = time.perf_counter() - t0
+    checks = _Checks(system, prescribed)
+    sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+    return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
+                   at_infinity=0, failed=int(np.sum(~tracked.ok)), seconds=time.perf_counter() - start,
+                   track_seconds=track_seconds, method="parameter")
 
 
 @dataclass
@@ -332,6 +368,11 @@ def sort_endpoints(checks: "_Checks", points, tol: Tolerances, imaginary: float,
             continue
         im = float(np.max(np.abs(uc.imag), initial=0.0))
         if im > near_real:
+            # a half-line filter is real (± a product of fixed lengths) at a complex solution too:
+            # a complex solution on the opposite half-line is not one of the problem's
+            if any(float(np.real(fv)) <= tol.geometry for fv in np.atleast_1d(checks.filters_c(uc))):
+                out.filtered += 1
+                continue
             if _duplicate(uc, out.complex, tol.same_configuration) is None:
                 out.complex.append(uc)
             continue
@@ -372,7 +413,9 @@ def _result(mech, values, unit, system, checks, e: Endpoints, tol, do_analyze, *
     sols = _label(mech, ev, coords, e.residuals, e.counts, checks, tol, do_analyze)
     sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
     return Solutions(mech, dict(values), unit, tuple(sols), len(e.complex), e.near_real, at_infinity, e.filtered,
-                     e.rejected, len(coords) - len(sols), paths, len(system.solve_for), len(system.reduced),
+                     e.rejected, len(coords) - len(sols), paths,
+                     *((len(system.unknowns), len(system.equations)) if method == "parameter"
+                       else (len(system.solve_for), len(system.reduced))),
                      seconds, track_seconds, failed, method)
 
 
