@@ -10,8 +10,8 @@ tracked to ``λ*``.  Then, in each loop, two random complex parameter points ``�
 drawn and all solutions known at ``λ*`` are tracked around the triangle ``λ* → λ₁ → λ₂ → λ*``
 (each leg with its own γ); the endpoints that solve the original equations at ``λ*``
 (:data:`VERIFY`) and are new (:data:`DISTINCT`) are added.  **Stopping rule:** the count has not
-grown for ``STALL_LOOPS`` = 10 consecutive loops (a loop that permutes ``N`` solutions misses a
-given one with a probability that falls geometrically; 5 was too few for the four-bar with a
+grown for ``STALL_LOOPS`` = 20 consecutive loops (a loop that permutes ``N`` solutions misses a
+given one with a probability that falls geometrically; 5 and 10 were too few for the four-bar with a
 prescribed crank angle, whose two half-lines are exchanged only by loops about ``cos² + sin² = 0``),
 or ``MAX_LOOPS`` loops.  No trace test: the count is checked against
 independent solvers in the tests.
@@ -29,10 +29,10 @@ from symkin.model.mechanism import Mechanism
 from symkin.solutions.parameter_homotopy import ParameterFamily, track_parameters
 from symkin.tolerances import Tolerances
 
-__all__ = ["STALL_LOOPS", "StartSolutions", "start_solutions"]
+__all__ = ["STALL_LOOPS", "StartSolutions", "augment", "start_solutions"]
 
 #: monodromy stops when this many consecutive loops found no new solution
-STALL_LOOPS = 10
+STALL_LOOPS = 20
 MAX_LOOPS = 200
 #: a point solves the family when the original equations' max-norm is below this (dimensionless)
 VERIFY = 1e-8
@@ -106,6 +106,43 @@ def start_solutions(mech: Mechanism, labels, tol: Tolerances, seed: int = 0, cac
     known = _new(family, lam, first.u[first.ok], np.zeros((0, family.start.size), complex))
     if not len(known):
         return None
+    known, loops = _loops(family, lam, known, rng, progress)
+    out = StartSolutions(family, lam, known, loops, time.perf_counter() - t0, False)
+    if cache:
+        _save(out, mech, labels, tol)
+    return out
+
+
+def augment(starts: StartSolutions, points, lam_query, mech: Mechanism, labels, tol: Tolerances, seed: int = 0,
+            cache: bool = True, progress=None) -> StartSolutions:
+    """Add solutions found at a query (e.g. by the total-degree solve) to the start solutions, then loop again.
+
+    Monodromy reaches only the component of the incidence variety that holds its first
+    solution; a model whose configuration curve is reducible (a change-point four-bar: the
+    parallelogram and anti-parallelogram branches) needs a solution on every component.  The
+    points (full ``u`` at the query's parameters) are tracked to the generic parameters, and
+    the new ones seed more loops.
+    """
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(seed + 1)
+    family, lam = starts.family, starts.lam
+    pts = np.array(points, complex).reshape(-1, family.start.size)
+    if not len(pts):
+        return starts
+    back = track_parameters(family, pts, np.asarray(lam_query, complex), lam, rng)
+    new = _new(family, lam, back.u[back.ok], starts.u)
+    if not len(new):
+        return starts
+    known, loops = _loops(family, lam, np.vstack([starts.u, new]), rng, progress)
+    out = StartSolutions(family, lam, known, starts.loops + loops, starts.seconds + time.perf_counter() - t0, False)
+    if cache:
+        _save(out, mech, labels, tol)
+    return out
+
+
+def _loops(family: ParameterFamily, lam, known, rng, progress) -> tuple[np.ndarray, int]:
+    """Monodromy loops from ``known`` until the stopping rule (module docstring)."""
+    r = family.rank
     stalled, loops = 0, 0
     while stalled < STALL_LOOPS and loops < MAX_LOOPS:
         loops += 1
@@ -122,16 +159,18 @@ def start_solutions(mech: Mechanism, labels, tol: Tolerances, seed: int = 0, cac
         stalled = stalled + 1 if len(known) == before else 0
         if progress is not None:
             progress(loops, len(known), stalled)
-    out = StartSolutions(family, lam, known, loops, time.perf_counter() - t0, False)
-    if cache:
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(".tmp.npz")
-            np.savez(tmp, lam=lam, u=known, loops=loops, **family.to_arrays())
-            tmp.replace(path)
-        except OSError as exc:
-            print(f"symkin: could not cache the start solutions in {path}: {exc}", file=sys.stderr)
-    return out
+    return known, loops
+
+
+def _save(out: StartSolutions, mech, labels, tol) -> None:
+    path = cache_file(mech, labels, tol)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".tmp.npz")
+        np.savez(tmp, lam=out.lam, u=out.u, loops=out.loops, **out.family.to_arrays())
+        tmp.replace(path)
+    except OSError as exc:
+        print(f"symkin: could not cache the start solutions in {path}: {exc}", file=sys.stderr)
 
 
 def _new(family: ParameterFamily, lam, u, known) -> np.ndarray:

@@ -61,6 +61,8 @@ __all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 METHODS = ("parameter", "total-degree")
 #: largest relative distance of a query's coefficients from the parameter family (rounding of the samples)
 SPAN_OFF = 1e-8
+#: two solutions of the original equations are one when closer than this (max-norm, dimensionless)
+DISTINCT = 1e-6
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
@@ -319,9 +321,58 @@ def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, im
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
     sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+    if not starts.cached and bertini_available():
+        # first solve: monodromy reaches one component of the incidence variety only; the
+        # total-degree solve at this query finds a solution on every component
+        found = _original_solutions(checks, list(tracked.u[tracked.ok]))
+        every = _original_solutions(checks, _total_degree_points(system, seed))
+        missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
+        if missing:
+            from symkin.solutions.monodromy import augment
+
+            starts = augment(starts, missing, lam.astype(complex), mech, list(values), tol, seed=seed, cache=cache)
+            tracked = track_parameters(starts.family, starts.u, starts.lam, lam.astype(complex),
+                                       np.random.default_rng(seed))
+            track_seconds = time.perf_counter() - t0
+            sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
     return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
                    at_infinity=0, failed=int(np.sum(~tracked.ok)), seconds=time.perf_counter() - start,
                    track_seconds=track_seconds, method="parameter")
+
+
+def bertini_available() -> bool:
+    """Whether the total-degree solver (the extra ``symkin[global]``) is installed."""
+    try:
+        require_solver()
+    except SymkinError:
+        return False
+    return True
+
+
+def _total_degree_points(system: PolynomialSystem, seed: int) -> list:
+    """Finite endpoints (full ``u``) of Bertini's total-degree homotopy on the reduced, squared-up system."""
+    n = len(system.solve_for)
+    if not n:  # every unknown eliminated: one solution
+        return [system.recover(np.zeros(0, complex))]
+    ends = track(square_up(system.reduced, n, seed=seed), list(system.solve_for))
+    out = []
+    for v in ends:
+        if abs(v[0]) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
+            continue
+        w = v[1:] / v[0]
+        if np.all(np.isfinite(w)):
+            out.append(system.recover(w))
+    return out
+
+
+def _original_solutions(checks: "_Checks", points) -> list:
+    """The distinct points that complex Newton carries onto the original equations (no filter, no sorting)."""
+    out = []
+    for u in points:
+        uc, res = _complex_newton(checks, np.asarray(u, complex))
+        if res <= NEWTON_ACCEPT and _duplicate(uc, out, DISTINCT) is None:
+            out.append(uc)
+    return out
 
 
 @dataclass
