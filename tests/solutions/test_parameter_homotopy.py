@@ -107,7 +107,8 @@ def test_planar_gough_stewart_against_phcpack(tmp_path):
     m = read_model(HERE.parent / "workspace" / "models" / "gough_stewart.toml")
     values = {f"slide:s{i}": 0.0 for i in range(1, 7)}
     values["slide:s1"] = 0.05
-    result = solve_all(m, values)
+    # total degree: the parameter homotopy's first solve of this 39-unknown family takes too long (issue 17)
+    result = solve_all(m, values, method="total-degree")
     real, complex_ = phc_counts(m, values, tmp_path)
     assert (len(result.solutions), result.complex) == (real, complex_) == (4, 24)
 
