@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -145,6 +146,6 @@ def phc_counts(m, values, tmp_path) -> tuple[int, int]:
     subprocess.run(["phc", "-b", "-t2", str(tmp_path / "in"), str(tmp_path / "out")], check=True,
                    capture_output=True, timeout=900)
     text = (tmp_path / "out").read_text()
-    real = int(text.split("Number of real solutions :")[1].split(".")[0])
-    complex_ = int(text.split("Number of complex solutions :")[1].split(".")[0])
-    return real, complex_
+    real = re.findall(r"Number of real solutions\s*:\s*(\d+)", text)
+    complex_ = re.findall(r"Number of complex solutions\s*:\s*(\d+)", text)
+    return int(real[-1]), int(complex_[-1])
