@@ -211,7 +211,8 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000, method: str = "parameter", cache: bool = True) -> Solutions:
+              max_paths: int = 5000, method: str = "parameter", cache: bool = True,
+              progress=None) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
     The assembly modes when inputs are prescribed (forward problem), the working modes when
@@ -232,6 +233,15 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
     seed : int
         Seed of the random combinations that square up an overconstrained system.
+    method : {"parameter", "total-degree"}
+        The parameter homotopy from cached start solutions (made by monodromy on the first
+        solve; falls back to total degree when it does not apply), or Bertini's total-degree
+        homotopy (module docstring of :mod:`symkin.solutions.monodromy`).
+    cache : bool
+        Read and write the parameter homotopy's start solutions in the artefact cache.
+    progress : callable, optional
+        ``progress(message)`` at each monodromy loop and before each homotopy (e.g. a tqdm
+        description or a throttled line on stderr).
     max_paths : int
         Refuse (with a :class:`SymkinError` that gives the count) a homotopy of more paths
         than this rather than run for minutes (the total degree of what is left after
@@ -263,7 +273,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     system = position_system(mech, values, unit, tol)
     if method == "parameter":
         result = _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real,
-                                  seed, cache, start)
+                                  seed, cache, start, progress)
         if result is not None:
             return result
     require_solver()
@@ -274,6 +284,8 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         raise SymkinError(f"{mech.name}: after elimination {n} unknowns and {len(eqs)} equations are left; "
                           f"the total-degree homotopy would track {degree} paths, more than max_paths = "
                           f"{max_paths}; raise max_paths to track them")
+    if progress is not None:
+        progress(f"total-degree homotopy: tracking {degree} paths")
     t0 = time.perf_counter()
     if n:
         ends = track(eqs, list(system.solve_for))
@@ -299,7 +311,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
 
 
 def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
-                     start) -> "Solutions | None":
+                     start, progress=None) -> "Solutions | None":
     """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply."""
     from symkin.solutions.monodromy import start_solutions
     from symkin.solutions.parameter_homotopy import track_parameters
@@ -307,7 +319,9 @@ def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, im
     if not system.unknowns:
         return None
     try:
-        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache)
+        loops = None if progress is None else (
+            lambda k, found, stalled: progress(f"monodromy loop {k}: {found} solutions ({stalled} loops without a new one)"))
+        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=loops)
     except SymkinError:
         return None
     if starts is None or not starts.family.rank:
@@ -316,6 +330,8 @@ def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, im
     lam, off = family.parameters(system.equations, list(system.unknowns))
     if off > SPAN_OFF:
         return None  # the query is not in the sampled family (a degenerate sample): total degree
+    if progress is not None:
+        progress(f"parameter homotopy: tracking {len(starts.u)} paths")
     t0 = time.perf_counter()
     tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed))
     track_seconds = time.perf_counter() - t0

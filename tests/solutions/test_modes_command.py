@@ -81,3 +81,14 @@ def test_json_contract_and_text(capsys):
                                 abs=close)
     code, text, _ = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--analyze")
     assert code == 0 and "2 real solution(s)" in text and "4 paths (parameter) tracked" in text and "analysis: L = 1" in text
+
+
+def test_no_progress_prints_summary_lines_on_stderr(capsys, monkeypatch, tmp_path):
+    pytest.importorskip("bertini", reason="the homotopy solver is the optional extra symkin[global]")
+    import importlib
+
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    monkeypatch.setattr(importlib.import_module("symkin.commands.modes"), "SUMMARY_EVERY", 0.0)
+    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--no-progress")
+    assert code == 0 and "2 real solution(s)" in out
+    assert "symkin modes: monodromy loop" in err and "symkin modes: parameter homotopy: tracking 4 paths" in err
