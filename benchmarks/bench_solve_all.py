@@ -8,6 +8,9 @@ homotopy alone, the system given to the solver (unknowns after elimination, equa
 squaring up), the paths tracked and the real / complex / at-infinity counts.  Needs the extra
 ``symkin[global]``.
 
+``--only parameter`` times the parameter homotopy (issue 17 §1) against the total-degree solve,
+query by query, in the same run.
+
 The second table times ``symkin.singularities`` (the command's work, without printing) on the
 appendix four-bar (a Grashof crank-rocker) and the catalogue's Watt II six-bar: total seconds,
 the seconds of the square DKP systems' homotopies, their paths, the circuits, the singular
@@ -44,13 +47,15 @@ def examples():
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--only", choices=("solve_all", "singularities"), default=None)
+    ap.add_argument("--only", choices=("solve_all", "parameter", "singularities"), default=None)
     ap.add_argument("--butterfly", action="store_true",
                     help="also run singularities on the double butterfly (minutes: its rounds of seeds)")
     args = ap.parse_args()
-    if args.only != "singularities":
+    if args.only in (None, "parameter"):
+        bench_parameter(args.repeat)
+    if args.only in (None, "solve_all"):
         bench_solve_all(args.repeat)
-    if args.only != "solve_all":
+    if args.only in (None, "singularities"):
         bench_singularities(args.repeat, args.butterfly)
 
 
@@ -108,6 +113,40 @@ def bench_singularities(repeat: int, butterfly: bool = False) -> None:
             print(f"{label:32s} {dt:7.1f} s, {len(r.samples)} solve_all, {len(r.circuits)} circuits, "
                   f"{sum('DKP-input' in k for k in kinds)} DKP-input, {sum('IM' in k for k in kinds)} IM, "
                   f"agree {r.agree} ({r.checks[0].skipped})")
+
+
+def bench_parameter(repeat: int) -> None:
+    """Per-query time of the parameter homotopy against the total-degree solve, in the same run (issue 17 §1).
+
+    The first call builds the start solutions (monodromy, plus one total-degree check; cached in
+    ``$SYMKIN_CACHE``, here a fresh temporary directory); the queries then move the values.
+    """
+    import os
+    import tempfile
+
+    os.environ["SYMKIN_CACHE"] = tempfile.mkdtemp(prefix="symkin-bench-")
+    m3, v3 = rpr_model()
+    cases = [("3-RPR forward (6)", m3, v3, "rad", 0.3),
+             ("four-bar (2)", catalogue.get("fourbar_appendix"), {"rotation:crank": 30}, "deg", 5.0),
+             ("five-bar (4)", catalogue.get("five_bar"), {"velocity:P.x": 0.1, "velocity:P.y": -0.2}, "rad", 0.02)]
+    print(f"{'parameter homotopy':32s} {'first s':>8s} {'param s':>8s} {'total s':>8s} {'ratio':>6s} "
+          f"{'paths p/t':>10s} {'real':>5s} {'cplx':>5s}")
+    for name, m, values, unit, delta in cases:
+        t = time.perf_counter()
+        solve_all(m, values, unit=unit, method="parameter")
+        first = time.perf_counter() - t
+        par, tot, rp, rt = [], [], None, None
+        for k in range(repeat):
+            q = {key: v + (k + 1) * delta for key, v in values.items()}
+            t = time.perf_counter()
+            rp = solve_all(m, q, unit=unit, method="parameter")
+            par.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            rt = solve_all(m, q, unit=unit, method="total-degree")
+            tot.append(time.perf_counter() - t)
+            assert (len(rp.solutions), rp.complex) == (len(rt.solutions), rt.complex), name
+        print(f"{name:32s} {first:8.2f} {min(par):8.3f} {min(tot):8.3f} {min(tot) / min(par):6.2f} "
+              f"{rp.paths:4d}/{rt.paths:<5d} {len(rp.solutions):5d} {rp.complex:5d}")
 
 
 def bench_solve_all(repeat: int) -> None:

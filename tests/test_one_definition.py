@@ -160,12 +160,20 @@ ALLOWED_LITERALS: dict[str, dict[str, tuple[int, str]]] = {
                                        "1e-16": (1, "POLISH_STEP: its last step"),
                                        "1e-13": (1, "CURVE_POINT: projection onto the closure curve"),
                                        "1e-9": (1, "a factor constant on the curve (relative)")},
-    "symkin/solutions/solve_all.py": {"1e-12": (1, "NEWTON_TARGET"), "1e-10": (2, "NEWTON_ACCEPT and a "
-                                      "prescribed value's check"), "1e-15": (1, "NEWTON_STEP"),
-                                      "1e-8": (2, "VERIFY and the imaginary part of a real solution"),
-                                      "1e-4": (1, "near-real solutions, refined"), "1e-6": (1, "distinct "
-                                      "complex solutions")},
+    "symkin/solutions/solve_all.py": {"1e-12": (1, "NEWTON_TARGET"), "1e-10": (3, "NEWTON_ACCEPT, a "
+                                      "prescribed value's check and an endpoint at infinity"), "1e-15": (1, "NEWTON_STEP"),
+                                      "1e-8": (3, "VERIFY, the imaginary part of a real solution and SPAN_OFF "
+                                                  "(a query's distance from the parameter family)"),
+                                      "1e-6": (1, "DISTINCT: two complex solutions found by the two "
+                                                  "homotopies are one"),
+                                      "1e-4": (1, "near-real solutions, refined")},
     "symkin/solutions/square_solutions.py": {"1e-4": (1, "NEAR_REAL"), "1e-10": (1, "AT_INFINITY")},
+    "symkin/solutions/monodromy.py": {"1e-8": (1, "VERIFY: a monodromy endpoint solves the original equations"),
+                                      "1e-6": (1, "DISTINCT: two monodromy solutions are one (as "
+                                                  "Tolerances.same_configuration)")},
+    "symkin/solutions/parameter_homotopy.py": {"1e-9": (3, "MIN_STEP and PATH_TOL of the path tracker, "
+                                                           "SPAN_RANK of the sampled coefficients"),
+                                               "1e-300": (2, _GUARD)},
     "symkin/solutions/system.py": {"1e-300": (1, _GUARD)},
     "symkin/symbolic/conditions.py": {"1e-300": (1, _GUARD)},
     "symkin/symbolic/loci.py": {"1e-9": (2, "a real root of a univariate elimination (imaginary part, residual)")},

@@ -49,7 +49,7 @@ from symkin.errors import NotConvergedError
 from symkin.tolerances import DEFAULT
 
 __all__ = ["Correction", "BatchCorrection", "NonFiniteError", "gauss_newton", "gauss_newton_batch",
-           "least_squares_step", "stacked_steps"]
+           "least_squares_step", "real_form", "real_form_batch", "stacked_steps"]
 
 _DIVERGED = 1e6   # a residual above this (dimensionless) has left every solution behind
 
@@ -160,6 +160,59 @@ def gauss_newton(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], z0:
     if best < res:
         z, res = best_z, best
     return Correction(z, bool(res <= tol), res, max_iterations, best)
+
+
+def real_form(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+              ) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """A complex analytic system ``F(x) = 0`` written as a real one of twice the size, for :func:`gauss_newton`.
+
+    ``fun(x) -> (F(x), F'(x))`` with ``x`` complex (n,), ``F`` complex (m,), ``F'`` complex (m, n).
+    The real form takes ``z = [Re x, Im x]`` (2n,) and returns ``[Re F, Im F]`` (2m,) and, by the
+    Cauchy–Riemann equations, the Jacobian ``[[Re F', −Im F'], [Im F', Re F']]`` (2m, 2n).  Newton on
+    the real form is complex Newton; recover ``x = z[:n] + 1j·z[n:]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = lambda x: (x * x + 1.0, np.diag(2 * x))   # x² = −1
+    >>> r = gauss_newton(real_form(square), np.array([0.3, 0.8]))
+    >>> r.converged, complex(np.round(r.z[0] + 1j * r.z[1], 12))
+    (True, 1j)
+    """
+    def real(z):
+        z = np.asarray(z, float)
+        n = z.size // 2
+        f, j = fun(z[:n] + 1j * z[n:])
+        f = np.asarray(f, complex).ravel()
+        j = np.asarray(j, complex).reshape(f.size, n)
+        return np.concatenate([f.real, f.imag]), np.block([[j.real, -j.imag], [j.imag, j.real]])
+
+    return real
+
+
+def real_form_batch(fun: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+                    ) -> Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """:func:`real_form` for :func:`gauss_newton_batch`: ``fun(X, index) -> (F (k, m), F' (k, m, n))``, complex.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = lambda x, idx: (x * x + 1.0, 2 * x[:, :, None])   # x² = −1, one unknown per row
+    >>> b = gauss_newton_batch(real_form_batch(square), np.array([[0.3, 0.8], [0.2, -0.9]]))
+    >>> b.converged.tolist(), np.round(b.z[:, 1], 12).tolist()
+    ([True, True], [1.0, -1.0])
+    """
+    def real(z, index):
+        z = np.asarray(z, float)
+        n = z.shape[1] // 2
+        f, j = fun(z[:, :n] + 1j * z[:, n:], index)
+        f = np.asarray(f, complex).reshape(z.shape[0], -1)
+        j = np.asarray(j, complex).reshape(z.shape[0], f.shape[1], n)
+        top = np.concatenate([j.real, -j.imag], axis=2)
+        bottom = np.concatenate([j.imag, j.real], axis=2)
+        return np.concatenate([f.real, f.imag], axis=1), np.concatenate([top, bottom], axis=1)
+
+    return real
 
 
 def stacked_steps(jac: np.ndarray, r: np.ndarray, rcond: float | None = None) -> np.ndarray:

@@ -16,9 +16,15 @@ model's length scale ``L`` (so the decisions do not depend on the unit of length
 * **rejected** when it is real but Newton on the original equations does not bring the residual
   below ``1e-10`` or moves it by more than ``near_real`` (a solution of the squared-up system
   only, which Newton's least-squares steps carry to a true one): counted, not returned;
-* **complex** otherwise (distinct endpoints counted);
+* **complex** otherwise: complex Newton on the original equations (the real form of twice the
+  size, :func:`symkin.curves.corrector.real_form`) must reach a residual ``<= 1e-10`` without
+  moving more than ``near_real``, else the endpoint is **rejected** (a solution of the squared-up
+  or reduced system only); ``complex`` counts the distinct verified complex solutions
+  (conjugates are distinct);
 * **at infinity** when the homogenising coordinate vanishes (counted).
 
+Every endpoint, real or complex, is refined by complex Newton on the original equations first.
+``failed`` counts paths that did not reach ``t = 1`` (parameter homotopy).
 ``near_real``, ``rejected``, ``at_infinity`` and ``filtered`` count paths; ``complex`` counts distinct
 endpoints; paths ending at one real solution are its ``multiplicity``.
 
@@ -42,15 +48,21 @@ import sympy as sp
 
 from symkin.analysis.batch import evaluators_for
 from symkin.analysis.classification import Analysis, analyze as _analyze
-from symkin.curves.corrector import gauss_newton
+from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
 from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
 from symkin.tolerances import Tolerances
 
-__all__ = ["Solution", "Solutions", "solve_all"]
+__all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
+#: the ways of solving: a parameter homotopy from cached generic solutions, or Bertini's total-degree homotopy
+METHODS = ("parameter", "total-degree")
+#: largest relative distance of a query's coefficients from the parameter family (rounding of the samples)
+SPAN_OFF = 1e-8
+#: two solutions of the original equations are one when closer than this (max-norm, dimensionless)
+DISTINCT = 1e-6
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
@@ -128,6 +140,8 @@ class Solutions:
     equations: int
     seconds: float
     track_seconds: float
+    failed: int = 0
+    method: str = "total-degree"
 
     def __len__(self) -> int:
         return len(self.solutions)
@@ -140,7 +154,8 @@ class Solutions:
         """``{"solutions": [...], "complex": k, "paths": total, ...}`` (the ``--json`` of ``symkin modes``)."""
         return {"solutions": [s.to_dict() for s in self.solutions], "complex": self.complex, "paths": self.paths,
                 "real": len(self.solutions), "near_real": self.near_real, "at_infinity": self.at_infinity,
-                "filtered": self.filtered, "rejected": self.rejected, "unverified": self.unverified, "unknowns": self.unknowns, "equations": self.equations,
+                "filtered": self.filtered, "rejected": self.rejected, "unverified": self.unverified,
+                "failed": self.failed, "method": self.method, "unknowns": self.unknowns, "equations": self.equations,
                 "values": dict(self.values), "unit": self.unit, "seconds": self.seconds,
                 "track_seconds": self.track_seconds}
 
@@ -165,7 +180,10 @@ class _Checks:
         j = sp.lambdify([u], sp.Matrix(eqs).jacobian(u), "numpy")
         self.f = lambda v: np.array(f(v), float).ravel()
         self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
+        self.fc = lambda v: np.array(f(v), complex).ravel()
+        self.jc = lambda v: np.array(j(v), complex).reshape(len(eqs), len(u))
         self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy")
+        self.filters_c = lambda v: np.array(self.filters(v), complex)
         self.prescribed = prescribed
         self.system = system
         import casadi as ca
@@ -193,7 +211,8 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000) -> Solutions:
+              max_paths: int = 5000, method: str = "parameter", cache: bool = True,
+              progress=None) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
     The assembly modes when inputs are prescribed (forward problem), the working modes when
@@ -214,6 +233,15 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
     seed : int
         Seed of the random combinations that square up an overconstrained system.
+    method : {"parameter", "total-degree"}
+        The parameter homotopy from cached start solutions (made by monodromy on the first
+        solve; falls back to total degree when it does not apply), or Bertini's total-degree
+        homotopy (module docstring of :mod:`symkin.solutions.monodromy`).
+    cache : bool
+        Read and write the parameter homotopy's start solutions in the artefact cache.
+    progress : callable, optional
+        ``progress(message)`` at each monodromy loop and before each homotopy (e.g. a tqdm
+        description or a throttled line on stderr).
     max_paths : int
         Refuse (with a :class:`SymkinError` that gives the count) a homotopy of more paths
         than this rather than run for minutes (the total degree of what is left after
@@ -237,11 +265,18 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     (2, 4)
     """
     start = time.perf_counter()
+    if method not in METHODS:
+        raise SymkinError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     tol = Tolerances.of(tol)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
-    require_solver()
     system = position_system(mech, values, unit, tol)
+    if method == "parameter":
+        result = _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real,
+                                  seed, cache, start, progress)
+        if result is not None:
+            return result
+    require_solver()
     n = len(system.solve_for)
     eqs = square_up(system.reduced, n, seed=seed)
     degree = total_degree(eqs, list(system.solve_for)) if n else 1
@@ -249,6 +284,8 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         raise SymkinError(f"{mech.name}: after elimination {n} unknowns and {len(eqs)} equations are left; "
                           f"the total-degree homotopy would track {degree} paths, more than max_paths = "
                           f"{max_paths}; raise max_paths to track them")
+    if progress is not None:
+        progress(f"total-degree homotopy: tracking {degree} paths")
     t0 = time.perf_counter()
     if n:
         ends = track(eqs, list(system.solve_for))
@@ -256,9 +293,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         ends = np.ones((1, 1), complex)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
-    ev = evaluators_for(mech, tol)
-    real_u, complex_pts, near, infinite, filtered, rejected = [], [], 0, 0, 0, 0
-    residuals, counts = [], []
+    points, infinite = [], 0
     for v in ends:
         h = v[0]
         if abs(h) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
@@ -268,39 +303,187 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         if not np.all(np.isfinite(w)) or float(np.max(np.abs(w), initial=0.0)) > 1e8:
             infinite += 1
             continue
-        u = system.recover(w)
-        im = float(np.max(np.abs(u.imag), initial=0.0))
+        points.append(system.recover(w))
+    sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
+    return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze,
+                   paths=int(len(ends)) if n else 0, at_infinity=infinite, failed=0,
+                   seconds=time.perf_counter() - start, track_seconds=track_seconds, method="total-degree")
+
+
+def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
+                     start, progress=None) -> "Solutions | None":
+    """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply."""
+    from symkin.solutions.monodromy import start_solutions
+    from symkin.solutions.parameter_homotopy import track_parameters
+
+    if not system.unknowns:
+        return None
+    try:
+        loops = None if progress is None else (
+            lambda k, found, stalled: progress(f"monodromy loop {k}: {found} solutions ({stalled} loops without a new one)"))
+        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=loops)
+    except SymkinError:
+        return None
+    if starts is None or not starts.family.rank:
+        return None  # no first solution, or nothing to loop around (no prescribed value)
+    family = starts.family
+    lam, off = family.parameters(system.equations, list(system.unknowns))
+    if off > SPAN_OFF:
+        return None  # the query is not in the sampled family (a degenerate sample): total degree
+    if progress is not None:
+        progress(f"parameter homotopy: tracking {len(starts.u)} paths")
+    t0 = time.perf_counter()
+    tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed))
+    track_seconds = time.perf_counter() - t0
+    checks = _Checks(system, prescribed)
+    sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+    if not starts.cached and bertini_available():
+        # first solve: monodromy reaches one component of the incidence variety only; the
+        # total-degree solve at this query finds a solution on every component
+        found = _original_solutions(checks, list(tracked.u[tracked.ok]))
+        every = _original_solutions(checks, _total_degree_points(system, seed))
+        missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
+        if missing:
+            from symkin.solutions.monodromy import augment
+
+            starts = augment(starts, missing, lam.astype(complex), mech, list(values), tol, seed=seed, cache=cache)
+            tracked = track_parameters(starts.family, starts.u, starts.lam, lam.astype(complex),
+                                       np.random.default_rng(seed))
+            track_seconds = time.perf_counter() - t0
+            sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+    return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
+                   at_infinity=0, failed=int(np.sum(~tracked.ok)), seconds=time.perf_counter() - start,
+                   track_seconds=track_seconds, method="parameter")
+
+
+def bertini_available() -> bool:
+    """Whether the total-degree solver (the extra ``symkin[global]``) is installed."""
+    try:
+        require_solver()
+    except SymkinError:
+        return False
+    return True
+
+
+def _total_degree_points(system: PolynomialSystem, seed: int) -> list:
+    """Finite endpoints (full ``u``) of Bertini's total-degree homotopy on the reduced, squared-up system."""
+    n = len(system.solve_for)
+    if not n:  # every unknown eliminated: one solution
+        return [system.recover(np.zeros(0, complex))]
+    ends = track(square_up(system.reduced, n, seed=seed), list(system.solve_for))
+    out = []
+    for v in ends:
+        if abs(v[0]) <= 1e-10 * max(1.0, float(np.max(np.abs(v)))):
+            continue
+        w = v[1:] / v[0]
+        if np.all(np.isfinite(w)):
+            out.append(system.recover(w))
+    return out
+
+
+def _original_solutions(checks: "_Checks", points) -> list:
+    """The distinct points that complex Newton carries onto the original equations (no filter, no sorting)."""
+    out = []
+    for u in points:
+        uc, res = _complex_newton(checks, np.asarray(u, complex))
+        if res <= NEWTON_ACCEPT and _duplicate(uc, out, DISTINCT) is None:
+            out.append(uc)
+    return out
+
+
+@dataclass
+class Endpoints:
+    """Endpoints sorted by :func:`sort_endpoints` (see the module docstring for the classes)."""
+
+    real: list = field(default_factory=list)
+    residuals: list = field(default_factory=list)
+    counts: list = field(default_factory=list)
+    complex: list = field(default_factory=list)
+    near_real: int = 0
+    filtered: int = 0
+    rejected: int = 0
+
+
+def sort_endpoints(checks: "_Checks", points, tol: Tolerances, imaginary: float,
+                   near_real: float) -> Endpoints:
+    """Refine every finite endpoint by Newton on the original equations, then sort it (module docstring).
+
+    Parameters
+    ----------
+    checks : _Checks
+        The original equations (real and complex), filters and prescribed values of one system.
+    points : sequence of ndarray
+        Full dimensionless vectors ``u`` (complex) of the endpoints.
+    tol : Tolerances
+    imaginary, near_real : float
+        Thresholds on ``max |Im u|``.
+
+    Returns
+    -------
+    Endpoints
+        Real solutions (refined, deduplicated, with multiplicities), distinct verified complex
+        solutions, and the counts of near-real, filtered and rejected endpoints.
+    """
+    out = Endpoints()
+    for u in points:
+        u = np.asarray(u, complex)
+        # complex Newton on the original (not squared-up, not reduced) equations, in real form
+        uc, res = _complex_newton(checks, u)
+        if res > NEWTON_ACCEPT or float(np.max(np.abs(uc - u), initial=0.0)) > near_real * max(
+                1.0, float(np.max(np.abs(u), initial=0.0))):
+            out.rejected += 1  # e.g. a solution of the squared-up system only
+            continue
+        im = float(np.max(np.abs(uc.imag), initial=0.0))
         if im > near_real:
-            complex_pts.append(u)
+            # a half-line filter is real (± a product of fixed lengths) at a complex solution too:
+            # a complex solution on the opposite half-line is not one of the problem's
+            if any(float(np.real(fv)) <= tol.geometry for fv in np.atleast_1d(checks.filters_c(uc))):
+                out.filtered += 1
+                continue
+            if _duplicate(uc, out.complex, tol.same_configuration) is None:
+                out.complex.append(uc)
             continue
-        ur, res = _newton(checks.f, checks.jac, np.array(u.real, float))
         if im > imaginary:
-            near += 1
+            out.near_real += 1
             continue
-        if res > NEWTON_ACCEPT or float(np.max(np.abs(ur - u.real), initial=0.0)) > near_real:
-            # e.g. a solution of the squared-up system only: Newton fails, or leaves for another solution
-            rejected += 1
+        ur, res = _newton(checks.f, checks.jac, np.array(uc.real, float))
+        if res > NEWTON_ACCEPT or float(np.max(np.abs(ur - uc.real), initial=0.0)) > near_real:
+            out.rejected += 1
             continue
-        same = _duplicate(ur, real_u, tol.same_configuration)
+        same = _duplicate(ur, out.real, tol.same_configuration)
         if same is not None:
-            counts[same] += 1
+            out.counts[same] += 1
             continue
         if any(float(fv) <= tol.geometry for fv in np.atleast_1d(checks.filters(ur))):
-            filtered += 1
+            out.filtered += 1
             continue
-        real_u.append(ur)
-        residuals.append(res)
-        counts.append(1)
-    distinct_complex = []
-    for u in complex_pts:
-        if _duplicate(u, distinct_complex, 1e-6) is None:
-            distinct_complex.append(u)
-    coords = [system.coordinates(u) for u in real_u]
-    sols = _label(mech, ev, coords, residuals, counts, checks, tol, do_analyze)
+        out.real.append(ur)
+        out.residuals.append(res)
+        out.counts.append(1)
+    return out
+
+
+def _complex_newton(checks: "_Checks", u: np.ndarray) -> tuple[np.ndarray, float]:
+    """Gauss–Newton on the original equations at a complex point (real form of twice the size)."""
+    if not u.size:
+        return u, 0.0
+    n = u.size
+    c = gauss_newton(real_form(lambda x: (checks.fc(x), checks.jc(x))), np.concatenate([u.real, u.imag]),
+                     tol=NEWTON_TARGET, max_iterations=30, step_tol=NEWTON_STEP, norm="max")
+    return c.z[:n] + 1j * c.z[n:], c.residual
+
+
+def _result(mech, values, unit, system, checks, e: Endpoints, tol, do_analyze, *, paths, at_infinity, failed,
+            seconds, track_seconds, method) -> "Solutions":
+    ev = evaluators_for(mech, tol)
+    coords = [system.coordinates(u) for u in e.real]
+    sols = _label(mech, ev, coords, e.residuals, e.counts, checks, tol, do_analyze)
     sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
-    return Solutions(mech, dict(values), unit, tuple(sols), len(distinct_complex), near, infinite, filtered,
-                     rejected, len(coords) - len(sols), int(len(ends)) if n else 0, n, len(system.reduced), time.perf_counter() - start,
-                     track_seconds)
+    return Solutions(mech, dict(values), unit, tuple(sols), len(e.complex), e.near_real, at_infinity, e.filtered,
+                     e.rejected, len(coords) - len(sols), paths,
+                     *((len(system.unknowns), len(system.equations)) if method == "parameter"
+                       else (len(system.solve_for), len(system.reduced))),
+                     seconds, track_seconds, failed, method)
 
 
 def _duplicate(u, seen, distance: float) -> int | None:

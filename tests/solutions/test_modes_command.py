@@ -27,8 +27,9 @@ def test_without_the_solver_the_error_names_the_extra(capsys, monkeypatch):
     import symkin
 
     with pytest.raises(SymkinError, match=r'pip install -e "\.\[global\]"'):
-        symkin.solve_all(catalogue.get("fourbar_appendix"), {"rotation:crank": 30}, unit="deg")
-    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30")
+        symkin.solve_all(catalogue.get("fourbar_appendix"), {"rotation:crank": 30}, unit="deg",
+                         method="total-degree")
+    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--method", "total-degree")
     assert code == 2 and out == "" and "symkin[global]" in err and "Traceback" not in err
     # every other command still works
     assert run(capsys, "analyze", FOURBAR)[0] == 0
@@ -53,7 +54,7 @@ def test_user_errors_exit_2_with_file_and_message(capsys, args, expected):
 
 def test_json_contract_and_text(capsys):
     pytest.importorskip("bertini", reason="the homotopy solver is the optional extra symkin[global]")
-    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--json")
+    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--json", "--method", "total-degree")
     assert code == 0
     data = json.loads(out)
     assert set(data) >= {"solutions", "complex", "paths"}
@@ -79,4 +80,15 @@ def test_json_contract_and_text(capsys):
     assert got == pytest.approx(sorted(np.concatenate([s["configuration"]["C"] for s in data["solutions"]])),
                                 abs=close)
     code, text, _ = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--analyze")
-    assert code == 0 and "2 real solution(s)" in text and "2 paths tracked" in text and "analysis: L = 1" in text
+    assert code == 0 and "2 real solution(s)" in text and "4 paths (parameter) tracked" in text and "analysis: L = 1" in text
+
+
+def test_no_progress_prints_summary_lines_on_stderr(capsys, monkeypatch, tmp_path):
+    pytest.importorskip("bertini", reason="the homotopy solver is the optional extra symkin[global]")
+    import importlib
+
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    monkeypatch.setattr(importlib.import_module("symkin.commands.modes"), "SUMMARY_EVERY", 0.0)
+    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--no-progress")
+    assert code == 0 and "2 real solution(s)" in out
+    assert "symkin modes: monodromy loop" in err and "symkin modes: parameter homotopy: tracking 4 paths" in err

@@ -53,7 +53,7 @@ def test_fourbar_two_assembly_modes_law_of_cosines():
     th = math.atan2(x["B"][1], x["B"][0]) + math.radians(30.0)
     b = l1 * np.array([math.cos(th), math.sin(th)])
     expected = [np.concatenate([b, c]) for c in circle_points(b, l2, x["D"], l3)]
-    result = solve_all(m, {"rotation:crank": 30}, unit="deg")
+    result = solve_all(m, {"rotation:crank": 30}, unit="deg", method="total-degree")
     assert_same_configurations(result, expected, ["B", "C"])
     assert result.complex == 0 and result.near_real == 0
     assert result.paths == 2  # the crank angle fixes B linearly; one quadratic is left
@@ -75,7 +75,7 @@ def test_fourbar_that_does_not_assemble_has_two_complex_solutions():
                              "inputs": [{"rotation": "crank"}], "outputs": [{"rotation": "rocker"}],
                              "nodes": {"A": [0, 0], "B": list(b), "C": list(c), "D": [2, 0]},
                              "links": {"crank": ["A", "B"], "coupler": ["B", "C"], "rocker": ["D", "C"]}})
-    result = solve_all(m, {"rotation:crank": 60}, unit="deg")
+    result = solve_all(m, {"rotation:crank": 60}, unit="deg", method="total-degree")
     assert len(result.solutions) == 0 and result.complex == 2 and result.paths == 2
     ok = solve_all(m, {"rotation:crank": 10}, unit="deg")
     b2 = 1.2 * np.array([math.cos(math.radians(40)), math.sin(math.radians(40))])
@@ -145,7 +145,7 @@ def test_3rrr_eight_working_modes_at_a_pose(scale):
         legs.append(circle_points(x[f"A{k}"], lc, cs[k - 1], ld))
     expected = [np.concatenate([b1, b2, b3, *cs]) for b1 in legs[0] for b2 in legs[1] for b3 in legs[2]]
     result = solve_all(m, {"velocity:C1.x": shift[0], "velocity:C1.y": shift[1], "rotation:platform": 5},
-                       unit="deg")
+                       unit="deg", method="total-degree")
     assert_same_configurations(result, expected, ["B1", "B2", "B3", "C1", "C2", "C3"], scale=scale)
     assert result.paths == 8 and result.complex == 0
     assert len({tuple(s.signs.items()) for s in result.solutions}) >= 2
@@ -218,7 +218,7 @@ def test_3rpr_forward_problem_six_real_assembly_modes():
     m, values = rpr_model()
     truth = rpr_truth()
     assert len(truth) == 6  # the literature's count, by an independent sweep
-    result = solve_all(m, values)
+    result = solve_all(m, values, method="total-degree")
     assert_same_configurations(result, truth, ["C1", "C2", "C3"])
     assert result.complex == 0  # the forward problem has 6 solutions over C: all real here
     assert result.paths == 16
@@ -278,7 +278,7 @@ def test_rssr_two_assembly_modes_on_the_rocker_circle():
     # meets the sphere about B, i.e. the circle about (b_y, 0) of radius sqrt(coupler² − (3 − b_x)²)
     yz = circle_points((0.0, 1.0), r, (b[1], 0.0), math.sqrt(coupler ** 2 - (3.0 - b[0]) ** 2))
     expected = [np.concatenate([b, [3.0, y, z]]) for y, z in yz]
-    result = solve_all(m, {"rotation:crank[O1-O1b]": 20}, unit="deg")
+    result = solve_all(m, {"rotation:crank[O1-O1b]": 20}, unit="deg", method="total-degree")
     assert_same_configurations(result, expected, ["B", "C"])
     assert result.paths == 2 and result.complex == 0
 
@@ -292,7 +292,7 @@ def test_joint_angle_prescribed_on_a_five_bar():
     p = b1 + rotate(x["P"] - x["B1"], math.radians(15))  # the distal turns 10° + 5°
     lc, ld = float(np.linalg.norm(x["B2"] - x["A2"])), float(np.linalg.norm(x["P"] - x["B2"]))
     expected = [np.concatenate([b1, b2, p]) for b2 in circle_points(x["A2"], lc, p, ld)]
-    result = solve_all(m, {"rotation:crank1": 10, "joint:crank1-distal1": 5}, unit="deg")
+    result = solve_all(m, {"rotation:crank1": 10, "joint:crank1-distal1": 5}, unit="deg", method="total-degree")
     assert_same_configurations(result, expected, ["B1", "B2", "P"])
     assert result.paths == 2
 
@@ -301,7 +301,7 @@ def test_dead_centre_is_one_double_solution_labelled_dkp():
     # crank 1 and coupler 3 aligned: B = (0.6, 0.8), C = 4 B; with the rocker's angle prescribed the
     # two positions of B (circle about A meets circle about C) coincide: one solution, two paths
     m = catalogue.get("fourbar_dead_centre")
-    result = solve_all(m, {"rotation:rocker": 0})
+    result = solve_all(m, {"rotation:rocker": 0}, method="total-degree")
     assert len(result.solutions) == 1 and result.paths == 2 and result.complex == 0
     s = result.solutions[0]
     assert s.multiplicity == 2
@@ -384,3 +384,65 @@ def test_a_failed_bertini_solve_is_retried_then_reported(monkeypatch):
     calls.update(n=0, fail=homotopy.RETRIES)
     with pytest.raises(SymkinError, match="failed 3 times"):
         homotopy.track([x**2 - 1, y - 2], [x, y], endgame="power_series")
+
+
+# ---------------------------------------------------------------- every endpoint verified (issue 17 §2)
+def _spurious_complex_endpoint(system, eqs):
+    """A complex root of the squared-up equations ``eqs`` that fails the original equations (Newton from random starts)."""
+    import sympy as sp
+
+    from symkin.curves.corrector import gauss_newton, real_form
+
+    v = list(system.solve_for)
+    f = sp.lambdify([v], eqs, "numpy")
+    j = sp.lambdify([v], sp.Matrix(eqs).jacobian(v), "numpy")
+    orig = sp.lambdify([list(system.unknowns)], [e for _, e in system.equations], "numpy")
+    fun = real_form(lambda x: (np.array(f(x), complex), np.array(j(x), complex).reshape(len(eqs), len(v))))
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        z0 = rng.standard_normal(2 * len(v))
+        c = gauss_newton(fun, z0, tol=1e-13, max_iterations=50)
+        w = c.z[:len(v)] + 1j * c.z[len(v):]
+        if c.converged and np.max(np.abs(w.imag)) > 1e-3 and \
+                np.max(np.abs(np.array(orig(system.recover(w)), complex))) > 1e-3:
+            return w
+    raise AssertionError("no spurious complex root found")
+
+
+def test_complex_endpoint_of_the_squared_up_system_only_is_not_counted(monkeypatch):
+    import sympy as sp
+
+    import importlib
+
+    sa = importlib.import_module("symkin.solutions.solve_all")
+
+    m = catalogue.get("braced_square")
+    system = position_system(m, {})
+    # squared up by complex random combinations: its extra roots are complex
+    a = np.random.default_rng(1).standard_normal((len(system.solve_for), len(system.reduced), 2))
+    eqs = [sp.expand(sum(complex(*a[i, k]) * e for k, e in enumerate(system.reduced)))
+           for i in range(len(system.solve_for))]
+    w = _spurious_complex_endpoint(system, eqs)
+    plain = solve_all(m, {}, method="total-degree")
+    real_track = sa.track
+    monkeypatch.setattr(sa, "track", lambda e, u, **k: np.vstack([real_track(e, u, **k),
+                                                                  np.concatenate([[1.0], w])[None, :]]))
+    result = solve_all(m, {}, method="total-degree")
+    assert result.complex == plain.complex  # the spurious complex endpoint is not a solution
+    assert result.rejected == plain.rejected + 1 and result.to_dict()["rejected"] == result.rejected
+    assert len(result.solutions) == len(plain.solutions) == 2
+
+
+@pytest.mark.slow
+def test_planar_gough_stewart_counts_only_verified_complex_solutions():
+    """4 real + 24 complex, as PHCpack's polyhedral blackbox on a 9-unknown formulation (issue 17)."""
+    from pathlib import Path
+
+    from symkin.model.model_file import read_model
+
+    m = read_model(Path(__file__).resolve().parents[1] / "workspace" / "models" / "gough_stewart.toml")
+    values = {f"slide:s{i}": 0.0 for i in range(1, 7)}
+    values["slide:s1"] = 0.05
+    result = solve_all(m, values, method="total-degree")
+    # before verification 28 were counted: 4 endpoints of the reduced system fail the original equations
+    assert len(result.solutions) == 4 and result.complex == 24 and result.rejected == 4

@@ -1,0 +1,270 @@
+"""The position problem as one family of polynomial systems whose parameters are the prescribed values, and its path tracker.
+
+**The family.**  The original equations of :func:`symkin.solutions.system.position_system`
+(not reduced: their shape does not depend on the values) have coefficients that are affine
+functions of a few features of the values (a slide or a coordinate enters linearly, an angle
+by its cosine and sine).  :meth:`ParameterFamily.build` samples the equations at the model's
+configuration (all values 0) and at ``2F + 1`` random real values, and takes the affine span
+of the coefficient vectors, ``C(λ) = C₀ + Σ λ_k C_k`` (``λ ∈ ℂ^r``, ``r`` the numerical rank):
+every query lies in it (:meth:`ParameterFamily.parameters`), so the straight line between two
+members stays in the family (coefficient-parameter homotopy).  ``F(u; λ) = C(λ) M(u)`` with
+``M`` the monomials; an overconstrained family is squared up by one fixed random complex
+matrix ``A`` (``n × m``), and every endpoint is checked on the original equations.
+
+**The tracker** (:func:`track_parameters`): all paths at once (numpy, complex), from ``λ₀``
+to ``λ₁`` along ``λ(t) = λ₀ + τ(t)(λ₁ − λ₀)`` with the γ-trick ``τ = γt / (1 + (γ − 1)t)``
+(``γ`` random on the unit circle: the path avoids the discriminant for all ``t < 1`` with
+probability one).  Predictor: RK4 on ``du/dt = −H_u⁻¹ H_t``; corrector: the one corrector,
+:func:`symkin.curves.corrector.gauss_newton_batch` on the real form of the complex system
+(:func:`~symkin.curves.corrector.real_form_batch`), at most ``CORRECTOR_ITERATIONS``
+steps; step control: a step is accepted when the corrector converges (the step grows by
+``GROW``), else halved; a path whose step falls below ``MIN_STEP`` or whose coordinates
+exceed ``DIVERGED`` fails.  No endgame: the endpoints at ``t = 1`` are refined by Newton on the
+original equations by the caller, and those that do not converge are counted as failed.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from symkin.curves.corrector import gauss_newton_batch, real_form_batch
+from symkin.errors import SymkinError
+from symkin.model.mechanism import Mechanism
+from symkin.tolerances import Tolerances
+
+__all__ = ["ParameterFamily", "Tracked", "track_parameters"]
+
+#: first step and largest step of the tracker (fractions of the path's parameter t ∈ [0, 1])
+FIRST_STEP = 0.02
+MAX_STEP = 0.1
+#: a path whose step falls below this has failed (a near-singular point on the path)
+MIN_STEP = 1e-9
+#: growth of an accepted step, and the corrector's steps per predicted point
+GROW = 1.6
+CORRECTOR_ITERATIONS = 3
+#: a path whose coordinates (dimensionless) exceed this has gone to infinity
+DIVERGED = 1e6
+#: corrector tolerance along the path (max-norm of H, dimensionless)
+PATH_TOL = 1e-9
+#: relative rank cut of the span of the sampled coefficient vectors, and the largest relative
+#: distance of a query's coefficients from that span
+SPAN_RANK = 1e-9
+
+
+@dataclass(frozen=True)
+class Tracked:
+    """Endpoints of :func:`track_parameters`: ``u`` (P, n) complex, ``ok`` (P,) whether the path reached t = 1."""
+
+    u: np.ndarray
+    ok: np.ndarray
+    steps: int
+
+
+@dataclass(frozen=True, eq=False)
+class ParameterFamily:
+    """``F(u; λ) = A (C₀ + Σ λ_k C_k) M(u)``: the original position equations as a linear family (module docstring).
+
+    Attributes
+    ----------
+    labels : tuple of str
+        The prescribed labels (their order is the order of the values).
+    exponents : ndarray
+        (K, n) exponents of the monomials ``M``.
+    base : ndarray
+        (m, K) coefficients ``C₀`` (the model's configuration, all values 0).
+    basis : ndarray
+        (r, m·K) orthonormal directions of the span (``C_k`` flattened).
+    mix : ndarray
+        (n, m) complex squaring-up matrix (the identity when ``m = n``).
+    start : ndarray
+        (n,) the model's configuration (dimensionless ``u``): a solution at ``λ = 0``.
+    """
+
+    labels: tuple
+    exponents: np.ndarray
+    base: np.ndarray
+    basis: np.ndarray
+    mix: np.ndarray
+    start: np.ndarray
+
+    @classmethod
+    def build(cls, mech: Mechanism, labels, tol: Tolerances, seed: int = 0) -> "ParameterFamily":
+        """Sample the original equations at the model and at ``2F + 1`` random values; their affine span."""
+        from symkin.solutions.system import position_system, prescribed_coordinates
+
+        rng = np.random.default_rng(seed)
+        labels = tuple(labels)
+        kinds = [c.kind for c, _ in prescribed_coordinates(mech, {k: 0.0 for k in labels})]
+        scale = float(mech.length_scale)
+        samples = [np.zeros(len(labels))]
+        for _ in range(2 * len(labels) + 1):
+            samples.append(np.array([rng.uniform(-1.0, 1.0) * (1.0 if k == "angle" else 0.2 * scale)
+                                     for k in kinds]))
+        systems = [position_system(mech, dict(zip(labels, map(float, q))), "rad", tol) for q in samples]
+        unknowns = list(systems[0].unknowns)
+        owners = [o for o, _ in systems[0].equations]
+        if any([o for o, _ in s.equations] != owners for s in systems):
+            raise SymkinError(f"{mech.name}: the position equations change shape with the values; "
+                              "no parameter homotopy")
+        polys = [[sp.Poly(e, *unknowns).as_dict() for _, e in s.equations] for s in systems]
+        monomials = sorted({m for p in polys for eq in p for m in eq})
+        index = {m: k for k, m in enumerate(monomials)}
+        coeffs = np.zeros((len(samples), len(owners), len(monomials)))
+        for j, p in enumerate(polys):
+            for i, eq in enumerate(p):
+                for m, c in eq.items():
+                    coeffs[j, i, index[m]] = float(c)
+        base = coeffs[0]
+        diff = (coeffs[1:] - base).reshape(len(samples) - 1, -1)
+        _, s, vt = np.linalg.svd(diff, full_matrices=False)
+        rank = int(np.sum(s > SPAN_RANK * max(float(s[0]) if s.size else 0.0, 1e-300)))
+        n, m = len(unknowns), len(owners)
+        if m > n:
+            mix = rng.standard_normal((n, m)) + 1j * rng.standard_normal((n, m))
+        else:
+            mix = np.eye(n, dtype=complex)
+        start = _model_u(mech, systems[0])
+        return cls(labels, np.array(monomials, int).reshape(len(monomials), n), base, vt[:rank], mix, start)
+
+    @property
+    def rank(self) -> int:
+        """Number of parameters ``r``."""
+        return int(self.basis.shape[0])
+
+    def to_arrays(self) -> dict:
+        """The arrays that define the family (for :func:`numpy.savez`)."""
+        return {"exponents": self.exponents, "base": self.base, "basis": self.basis, "mix": self.mix,
+                "start": self.start, "labels": np.array(self.labels)}
+
+    @classmethod
+    def from_arrays(cls, data) -> "ParameterFamily":
+        """Inverse of :meth:`to_arrays`."""
+        return cls(tuple(str(x) for x in data["labels"]), data["exponents"], data["base"], data["basis"],
+                   data["mix"], data["start"])
+
+    def parameters(self, equations, unknowns) -> tuple[np.ndarray, float]:
+        """``λ`` of a query's original equations and their relative distance from the family (0 when in it)."""
+        c = np.zeros_like(self.base)
+        index = {tuple(int(v) for v in m): k for k, m in enumerate(self.exponents)}
+        for i, (_, e) in enumerate(equations):
+            for m, v in sp.Poly(e, *unknowns).as_dict().items():
+                if m not in index:
+                    return np.zeros(self.rank), np.inf
+                c[i, index[m]] = float(v)
+        d = (c - self.base).ravel()
+        lam = self.basis @ d
+        off = float(np.linalg.norm(d - lam @ self.basis)) / max(float(np.linalg.norm(c)), 1e-300)
+        return lam, off
+
+    def coefficients(self, lam: np.ndarray) -> np.ndarray:
+        """``C(λ)`` (m, K), complex."""
+        return self.base + (np.asarray(lam) @ self.basis).reshape(self.base.shape)
+
+    def monomials(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``M(u)`` (P, K) and ``∂M/∂u`` (P, K, n) at the rows of ``u`` (P, n)."""
+        e = self.exponents
+        powers = u[:, None, :] ** e[None, :, :]
+        mono = np.prod(powers, axis=2)
+        n = u.shape[1]
+        dm = np.empty(mono.shape + (n,), dtype=complex)
+        for j in range(n):
+            lower = e.copy()
+            lower[:, j] = np.maximum(lower[:, j] - 1, 0)
+            dm[:, :, j] = e[None, :, j] * np.prod(u[:, None, :] ** lower[None, :, :], axis=2)
+        return mono, dm
+
+    def evaluate(self, u: np.ndarray, coefficients: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Squared-up ``H`` (P, n) and ``H_u`` (P, n, n) at the rows of ``u`` with coefficients (P, m, K) or (m, K)."""
+        mono, dm = self.monomials(u)
+        ac = self.mix @ coefficients
+        if ac.ndim == 2:
+            return mono @ ac.T, np.einsum("ik,pkj->pij", ac, dm)
+        return np.einsum("pik,pk->pi", ac, mono), np.einsum("pik,pkj->pij", ac, dm)
+
+    def residual(self, u: np.ndarray, lam: np.ndarray) -> np.ndarray:
+        """Max-norm of the original (not squared-up) equations at the rows of ``u``."""
+        mono, _ = self.monomials(u)
+        return np.max(np.abs(mono @ self.coefficients(lam).T), axis=1)
+
+
+def _model_u(mech: Mechanism, system) -> np.ndarray:
+    """The model's configuration as the dimensionless free vector ``u``."""
+    x = dict(mech.nodes)
+    return np.concatenate([(np.array(x[n], float) - system.center) / system.scale for n in mech.free_nodes])
+
+
+def track_parameters(family: ParameterFamily, u0: np.ndarray, lam0: np.ndarray, lam1: np.ndarray,
+                     rng: np.random.Generator, progress=None) -> Tracked:
+    """Track every row of ``u0`` (solutions at ``λ₀``) to ``λ₁`` (module docstring); ``progress(k)`` after k paths end."""
+    u = np.array(np.atleast_2d(u0), dtype=complex)
+    p = u.shape[0]
+    lam0, lam1 = np.asarray(lam0, complex), np.asarray(lam1, complex)
+    gamma = np.exp(2j * np.pi * rng.uniform())
+    dlam = (lam1 - lam0) @ family.basis
+    dc = dlam.reshape(family.base.shape)
+
+    def tau(t):
+        return gamma * t / (1 + (gamma - 1) * t)
+
+    def coeffs(t):
+        return family.base[None] + (lam0 @ family.basis).reshape(family.base.shape)[None] + \
+            tau(t)[:, None, None] * dc[None]
+
+    def velocity(x, t):
+        # du/dt = −H_u⁻¹ H_t, with H_t = A dC/dτ M(u) τ'(t)
+        c = coeffs(t)
+        mono, _ = family.monomials(x)
+        _, hu = family.evaluate(x, c)
+        dtau = gamma / (1 + (gamma - 1) * t) ** 2
+        ht = (mono @ (family.mix @ dc).T) * dtau[:, None]
+        try:
+            return -np.linalg.solve(hu, ht[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:
+            return np.full_like(x, np.nan)
+
+    t = np.zeros(p)
+    h = np.full(p, FIRST_STEP)
+    active = np.ones(p, bool)
+    ok = np.zeros(p, bool)
+    steps = 0
+    done_before = 0
+    while np.any(active):
+        steps += 1
+        idx = np.flatnonzero(active)
+        x, tt = u[idx], t[idx]
+        hh = np.minimum(h[idx], 1.0 - tt)
+        k1 = velocity(x, tt)
+        k2 = velocity(x + 0.5 * hh[:, None] * k1, tt + 0.5 * hh)
+        k3 = velocity(x + 0.5 * hh[:, None] * k2, tt + 0.5 * hh)
+        k4 = velocity(x + hh[:, None] * k3, tt + hh)
+        pred = x + (hh[:, None] / 6.0) * (k1 + 2 * k2 + 2 * k3 + k4)
+        t_new = tt + hh
+        finite = np.all(np.isfinite(pred), axis=1)
+        pred[~finite] = x[~finite]
+        c_new = coeffs(t_new)
+
+        def fun(xs, rows, c=c_new):
+            return family.evaluate(xs, c[rows])
+
+        z0 = np.concatenate([pred.real, pred.imag], axis=1)
+        corr = gauss_newton_batch(real_form_batch(fun), z0, tol=PATH_TOL, max_iterations=CORRECTOR_ITERATIONS,
+                                  diverge_after=1)
+        n = x.shape[1]
+        good = corr.converged & finite
+        z = corr.z[:, :n] + 1j * corr.z[:, n:]
+        good &= np.max(np.abs(z - pred), axis=1) <= np.maximum(1.0, np.max(np.abs(x), axis=1)) * hh * 10
+        u[idx[good]] = z[good]
+        t[idx[good]] = t_new[good]
+        h[idx[good]] = np.minimum(hh[good] * GROW, MAX_STEP)
+        h[idx[~good]] = hh[~good] * 0.5
+        big = np.max(np.abs(u[idx]), axis=1) > DIVERGED
+        arrived = t[idx] >= 1.0
+        ok[idx[arrived & ~big]] = True
+        stop = arrived | big | (h[idx] < MIN_STEP)
+        active[idx[stop]] = False
+        if progress is not None and int(np.sum(~active)) != done_before:
+            done_before = int(np.sum(~active))
+            progress(done_before)
+    return Tracked(u, ok, steps)
