@@ -211,7 +211,7 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000, method: str = "parameter", cache: bool = True,
+              max_paths: int = 5000, method: str = "total-degree", cache: bool = True,
               progress=None) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
@@ -233,10 +233,11 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
     seed : int
         Seed of the random combinations that square up an overconstrained system.
-    method : {"parameter", "total-degree"}
-        The parameter homotopy from cached start solutions (made by monodromy on the first
-        solve; falls back to total degree when it does not apply), or Bertini's total-degree
-        homotopy (module docstring of :mod:`symkin.solutions.monodromy`).
+    method : {"total-degree", "parameter"}
+        Default ``"total-degree"``: Bertini's total-degree homotopy.  ``"parameter"``: the parameter homotopy from cached start solutions (made by monodromy on the first
+        solve; falls back to total degree when it does not apply; module docstring of
+        :mod:`symkin.solutions.monodromy`).  It is not the default yet: its first solve costs
+        seconds to minutes and its queries are not faster than Bertini's on the small models.
     cache : bool
         Read and write the parameter homotopy's start solutions in the artefact cache.
     progress : callable, optional

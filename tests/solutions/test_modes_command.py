@@ -80,7 +80,7 @@ def test_json_contract_and_text(capsys):
     assert got == pytest.approx(sorted(np.concatenate([s["configuration"]["C"] for s in data["solutions"]])),
                                 abs=close)
     code, text, _ = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--analyze")
-    assert code == 0 and "2 real solution(s)" in text and "4 paths (parameter) tracked" in text and "analysis: L = 1" in text
+    assert code == 0 and "2 real solution(s)" in text and "2 paths (total-degree) tracked" in text and "analysis: L = 1" in text
 
 
 def test_no_progress_prints_summary_lines_on_stderr(capsys, monkeypatch, tmp_path):
@@ -89,6 +89,6 @@ def test_no_progress_prints_summary_lines_on_stderr(capsys, monkeypatch, tmp_pat
 
     monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
     monkeypatch.setattr(importlib.import_module("symkin.commands.modes"), "SUMMARY_EVERY", 0.0)
-    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--no-progress")
+    code, out, err = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--no-progress", "--method", "parameter")
     assert code == 0 and "2 real solution(s)" in out
     assert "symkin modes: monodromy loop" in err and "symkin modes: parameter homotopy: tracking 4 paths" in err
