@@ -410,3 +410,24 @@ def test_input_output_curve_is_the_output_against_the_input_with_the_events_on_i
     assert len(path_figure(fourbar_path).subfigs[0].axes) == 3  # indicators, input–output, traces
     with pytest.raises(SymkinError, match="no scalar output"):
         plot_input_output(trace(symkin.catalogue.get("rrr_3"), stop=30, unit="deg"))
+
+
+@pytest.mark.parametrize("model", ["rpr_3", "gough_stewart"])
+def test_prismatic_legs_are_drawn_whole_from_base_joint_to_platform_joint(model):
+    from tests.conftest import ROOT
+
+    mech = symkin.read_model(ROOT / "examples" / f"{model}.toml")
+    ax = draw_mechanism(mech)
+    assert ax.name == ("3d" if mech.dim == 3 else "rectilinear")  # spatial models in 3-D
+    xyz = mech.coordinates()
+    legs = [s for s in mech.sliders if s.kind == "moving_line"]
+    assert legs
+    for s in legs:
+        line = by_gid(ax.lines, f"link:{s.link}")
+        data = line.get_data_3d() if mech.dim == 3 else line.get_data()
+        ends = sorted(map(tuple, np.round(np.column_stack(data), 12)))
+        base = s.line[0]
+        assert ends == sorted([tuple(np.round(xyz[base], 12)), tuple(np.round(xyz[s.node], 12))])
+    # the node that only carries the line is not drawn as a joint nor named
+    helpers = {s.line[1] for s in legs}
+    assert not helpers & {t.get_text().strip() for t in ax.texts}
