@@ -20,7 +20,7 @@ from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 
-__all__ = ["draw_mechanism"]
+__all__ = ["draw_mechanism", "draw_leg_lines"]
 
 #: colours: bars and bodies, ground, nodes; arrows cycle through ARROW_COLOURS
 LINK_COLOUR = "#3b6ea5"
@@ -278,6 +278,75 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
     ax.set_ylabel("y" if three_d or mech.dim == 2 else "y (x-y projection)")
     if title is not None or not ax.get_title():
         ax.set_title(mech.name if title is None else title, fontsize=10)
+    return ax
+
+
+def leg_lines(mech: Mechanism) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The lines of a planar parallel manipulator's legs: ``[(link, point, direction)]``.
+
+    For each joint of the platform (``platform`` in the model file), the leg link it is in
+    (a two-node link): the line through its two nodes, or, for a prismatic leg, the moving
+    line its joint slides on.  Empty without a platform or for a spatial model.
+    """
+    if mech.platform is None or mech.dim != 2:
+        return []
+    x = coordinates(mech)
+    idx = mech.node_index()
+    links = dict(mech.links)
+    joints = links.get(mech.platform, ())
+    out = []
+    for name, nodes in mech.links:
+        if name == mech.platform or len(nodes) != 2:
+            continue
+        on = [n for n in nodes if n in joints]
+        slid = [s for s in mech.sliders if s.kind == "moving_line" and s.link == name and s.node in joints]
+        if slid:
+            a, b = slid[0].line
+        elif len(on) == 1:
+            a, b = nodes
+        else:
+            continue
+        d = x[idx[b]] - x[idx[a]]
+        if np.linalg.norm(d) > 0:
+            out.append((name, x[idx[a]], d / np.linalg.norm(d)))
+    return out
+
+
+def draw_leg_lines(mech: Mechanism, ax=None):
+    """Draw the legs' lines of a planar parallel manipulator and their common point (a type-2 sketch).
+
+    At a type-2 (DKP-input) configuration of a planar parallel manipulator the legs' lines
+    (:func:`leg_lines`) meet in one point (or are parallel); this draws them, dashed, across
+    the drawing, and their least-squares common point as a star.  It only draws: where the
+    lines are parallel (no finite common point within ten extents of the drawing) the star is left out.
+
+    Returns
+    -------
+    matplotlib Axes
+        Lines ``gid`` ``leg-line:LINK``, the point ``gid`` ``common-point``.
+    """
+    if ax is None:
+        ax = new_axes(False)
+    lines = leg_lines(mech)
+    if len(lines) < 2:
+        return ax
+    x = coordinates(mech)
+    extent = max(float(np.ptp(x, axis=0).max()), mech.length_scale)
+    centre = x.mean(axis=0)
+    # least squares: the point nearest to every line, sum of (I - d d^T)(p - a) = 0
+    m = sum(np.eye(2) - np.outer(d, d) for _, _, d in lines)
+    r = sum((np.eye(2) - np.outer(d, d)) @ a for _, a, d in lines)
+    point = np.linalg.lstsq(m, r, rcond=None)[0]
+    finite = bool(np.linalg.norm(point - centre) < 10 * extent)
+    reach = np.linalg.norm(point - centre) + extent if finite else extent
+    for name, a, d in lines:
+        t0 = float((centre - a) @ d)
+        seg = np.array([a + (t0 - reach) * d, a + (t0 + reach) * d])
+        ax.plot(*seg.T, linestyle=(0, (4, 3)), color="#d62728", linewidth=0.9, zorder=1, gid=f"leg-line:{name}",
+                scalex=False, scaley=False)
+    if finite:
+        ax.plot(*point, marker="*", markersize=12, color="#d62728", markeredgecolor="black", linestyle="none",
+                zorder=6, gid="common-point", label="legs' lines meet (type 2)")
     return ax
 
 

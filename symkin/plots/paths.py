@@ -18,7 +18,7 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
 from symkin.paths.trace import Path
-from symkin.plots.mechanism import coordinates, draw_mechanism, is_3d, new_axes, set_equal_3d
+from symkin.plots.mechanism import coordinates, draw_leg_lines, draw_mechanism, is_3d, new_axes, set_equal_3d
 
 __all__ = ["plot_indicators", "plot_traces", "plot_input_output", "plot_event_configurations", "path_figure",
            "save_path_figures", "abscissa", "event_label", "place_labels"]
@@ -473,7 +473,9 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
 
     Small multiples: every panel has the same axes limits (the extent of the whole path), so
     the panels compare at a glance; each is titled with :func:`event_label` (numbered as in
-    the text report and the JSON) and its types and DOF from the event's analysis.
+    the text report and the JSON) and its types and DOF from the event's analysis.  At a
+    DKP-input (type-2) event of a planar parallel manipulator the legs' lines are drawn with
+    their common point (:func:`~symkin.plots.mechanism.draw_leg_lines`).
 
     Parameters
     ----------
@@ -529,8 +531,10 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
                         gid=f"context-trace:{path.node_names[j]}")
         a = e.analysis
         detail = f"\n{', '.join(a.types) or 'regular'}; L = {a.dof}" if a is not None else ""
-        draw_mechanism(mech.with_coordinates(e.coordinates), ax=ax, labels=True,
-                       title=event_label(path, k, e, unit) + detail)
+        at = mech.with_coordinates(e.coordinates)
+        draw_mechanism(at, ax=ax, labels=True, title=event_label(path, k, e, unit) + detail)
+        if e.kind == Kind.DKP_INPUT and not three_d:  # type 2: the legs' lines are concurrent
+            draw_leg_lines(at, ax=ax)
         ax.title.set_fontsize(8)
         lim = _panel_limits(path, three_d)
         if three_d:

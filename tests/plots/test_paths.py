@@ -431,3 +431,24 @@ def test_prismatic_legs_are_drawn_whole_from_base_joint_to_platform_joint(model)
     # the node that only carries the line is not drawn as a joint nor named
     helpers = {s.line[1] for s in legs}
     assert not helpers & {t.get_text().strip() for t in ax.texts}
+
+
+def test_type_2_panels_draw_the_legs_lines_meeting_in_one_point(rrr_path):
+    from symkin.plots.paths import plot_event_configurations
+
+    axes = plot_event_configurations(rrr_path)
+    for ax, e in zip(axes, rrr_path.singular_events()):
+        lines = [line for line in ax.lines if (line.get_gid() or "").startswith("leg-line:")]
+        if e.kind != "DKP-input":
+            assert not lines and not gids(ax.lines, "common-point")
+            continue
+        assert gids(lines) == ["leg-line:distal1", "leg-line:distal2", "leg-line:distal3"]
+        (point,) = [np.array([line.get_xdata()[0], line.get_ydata()[0]]) for line in ax.lines
+                    if line.get_gid() == "common-point"]
+        # independent check: the distal links' lines B_k-C_k (at the event) all pass through the point
+        idx = {n: k for k, n in enumerate(rrr_path.node_names)}
+        for k in (1, 2, 3):
+            b, c = e.coordinates[idx[f"B{k}"]], e.coordinates[idx[f"C{k}"]]
+            d = (c - b) / np.linalg.norm(c - b)
+            w = point - b
+            assert abs(w[0] * d[1] - w[1] * d[0]) < 1e-3 * rrr_path.mechanism.length_scale
