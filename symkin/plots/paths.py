@@ -153,11 +153,7 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
                 linestyle=_LINESTYLE.get(key, "-"))
     ax.axhline(0.0, color="black", linewidth=0.8, zorder=1, gid="zero")
 
-    numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
-    for kind in _EVENT_KINDS:
-        chosen = [(k, e) for k, e in numbered if e.kind == kind]
-        if not chosen:
-            continue
+    for kind, chosen in _events_by_kind(path):
         ex = [(e.input * conv) if mode == "input" else e.s for _, e in chosen]
         st = STYLE[kind]
         ax.plot(ex, [0.0] * len(ex), linestyle="none", marker=st["marker"], markersize=8,
@@ -231,6 +227,13 @@ def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
         if y0 < 0 < y1 and free > 0 and (-y0) * h / free > y1 - y0:
             ax.set_ylim(y0, y0 + (-y0) * h / free)
     return labels
+
+
+def _events_by_kind(path: Path):
+    """``[(kind, [(number, event), ...])]`` for each kind of :data:`_EVENT_KINDS` that occurs, numbered as the report."""
+    numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
+    out = [(kind, [(k, e) for k, e in numbered if e.kind == kind]) for kind in _EVENT_KINDS]
+    return [(kind, chosen) for kind, chosen in out if chosen]
 
 
 def _num(v) -> float:
@@ -388,12 +391,10 @@ def plot_input_output(path: Path, ax=None, unit: str = "deg", *, annotate: bool 
 
     Examples
     --------
-    >>> import matplotlib
+    >>> import matplotlib, symkin.paths.trace
     >>> matplotlib.use("Agg")
-    >>> import symkin
-    >>> from symkin.paths.trace import trace
-    >>> p = trace(symkin.catalogue.get("fourbar_appendix"), stop=360, unit="deg")
-    >>> ax = plot_input_output(p)
+    >>> ax = plot_input_output(symkin.paths.trace.trace(symkin.catalogue.get("fourbar_appendix"), stop=360,
+    ...                                                 unit="deg"))
     >>> ax.get_ylabel()
     "output rotation:rocker [deg]\\nfrom the model's configuration"
     """
@@ -415,11 +416,7 @@ def plot_input_output(path: Path, ax=None, unit: str = "deg", *, annotate: bool 
     if period:
         ys = np.unwrap(ys, period=period)
     ax.plot(xs, ys, color="black", linewidth=1.4, gid="input-output", label="output vs input")
-    numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
-    for kind_ in _EVENT_KINDS:
-        chosen = [(k, e) for k, e in numbered if e.kind == kind_]
-        if not chosen:
-            continue
+    for kind_, chosen in _events_by_kind(path):
         ex = np.array([e.input * conv_in for _, e in chosen])
         ey = np.array([path.outputs(e, unit)[label]["relative"] for _, e in chosen], float)
         ey = _unwrap_near(ey, period, np.array([e.s for _, e in chosen]), s_pts, ys)
