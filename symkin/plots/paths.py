@@ -211,13 +211,13 @@ def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
     height = max(t.get_window_extent(renderer).height for t in labels) / px  # points
     placed = []
     for t in labels:
-        tier = 0
+        tier, last = 0, None
         while True:
             t.xyann = (0.0, 12.0 + tier * (height + gap))
             box = t.get_window_extent(renderer).padded(gap * px / 2)
-            if not any(box.overlaps(b) for b in placed):
-                break
-            tier += 1
+            if not any(box.overlaps(b) for b in placed) or (last is not None and box.bounds == last.bounds):
+                break  # free, or a label that is not drawn (its box does not move): leave it
+            tier, last = tier + 1, box
         placed.append(box)
     if ax.get_yscale() == "linear":  # room above the highest label: y1 so that 0 + its offset fits
         y0, y1 = ax.get_ylim()
