@@ -6,8 +6,11 @@ and returns the Axes (networkx ``draw`` style):
 * :func:`plot_indicators` — IM indicator and signed DKP test functions along a path, with
   the located events (paper Figs. 3c, 10);
 * :func:`plot_traces` — node traces of a path with its singular configurations (Fig. 5);
+* :func:`plot_input_output` — the input–output curve of a path with its events on it;
 * :func:`draw_mechanism` — a mechanism with motion-space vectors as arrows (Figs. 4, 6, 7,
   11-13);
+* :func:`draw_leg_lines` — the legs' lines of a planar parallel manipulator and their common
+  point (drawn on the type-2 panels of a path);
 * :func:`plot_event_configurations` — the mechanism at each located singular event of a
   path, one small panel per event, same axes limits;
 * :func:`save_path_figures` — indicators, traces and the event panels in one PNG
@@ -20,9 +23,11 @@ and returns the Axes (networkx ``draw`` style):
   (``symkin map ... --plot FILE.png``);
 * :func:`~symkin.plots.extra.require_matplotlib` — the clear error when the plots extra is missing.
 """
-from symkin.plots.mechanism import draw_mechanism
+from symkin.plots.mechanism import draw_leg_lines, draw_mechanism
 from symkin.plots.maps import plot_im_surface, plot_map, plot_seed, save_map_figure
-from symkin.plots.paths import plot_event_configurations, plot_indicators, plot_traces, save_path_figures
+from symkin.plots.paths import (plot_event_configurations, plot_indicators, plot_input_output, plot_traces,
+                                save_path_figures)
 
-__all__ = ["draw_mechanism", "plot_event_configurations", "plot_indicators", "plot_traces", "save_path_figures",
+__all__ = ["draw_mechanism", "draw_leg_lines", "plot_event_configurations", "plot_indicators", "plot_input_output",
+           "plot_traces", "save_path_figures",
            "plot_map", "plot_im_surface", "plot_seed", "save_map_figure"]

@@ -20,7 +20,7 @@ from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 
-__all__ = ["draw_mechanism"]
+__all__ = ["draw_mechanism", "draw_leg_lines"]
 
 #: colours: bars and bodies, ground, nodes; arrows cycle through ARROW_COLOURS
 LINK_COLOUR = "#3b6ea5"
@@ -185,6 +185,9 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
     matplotlib Axes
         Artists carry a ``gid``: ``link:NAME``, ``nodes``, ``fixed``, ``sliders`` (blocks on
         fixed lines), ``slider:ID`` (the line), ``motion:LABEL`` (one quiver per motion).
+        A prismatic leg (a link carrying a moving line on which a platform joint slides) is one
+        segment from its base joint to the platform joint; the node that only fixes its line is
+        not drawn as a joint.
 
     Examples
     --------
@@ -208,9 +211,10 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
     extent = float(np.ptp(xp, axis=0).max()) if len(xp) > 1 else 1.0
     extent = extent if extent > 0 else mech.length_scale
 
+    legs = _prismatic_legs(mech, x)
     for name, nodes in mech.links:
         colour = GROUND_COLOUR if name in ground else LINK_COLOUR
-        pts = xp[[idx[n] for n in nodes]]
+        pts = _project(legs[name], three_d) if name in legs else xp[[idx[n] for n in nodes]]
         _draw_link(ax, name, pts, colour, three_d, ground=name in ground)
 
     extra_points = [xp]
@@ -228,7 +232,8 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
         extra_points.append(seg)
 
     on_line = {s.node for s in mech.sliders if s.kind == "line"}
-    moving = [k for k, n in enumerate(mech.node_names) if n not in fixed and n not in on_line]
+    helpers = _line_helpers(mech)  # nodes that only carry a leg's line: drawn inside the leg, not as joints
+    moving = [k for k, n in enumerate(mech.node_names) if n not in fixed and n not in on_line and n not in helpers]
     blocks = [k for k, n in enumerate(mech.node_names) if n not in fixed and n in on_line]
     ground_idx = [k for k, n in enumerate(mech.node_names) if n in fixed]
     kw = dict(linestyle="none", zorder=4)
@@ -242,6 +247,8 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
         ax.plot(*xp[ground_idx].T, marker="^", markersize=11, color="black", gid="fixed", **kw)
     if labels:
         for k, n in enumerate(mech.node_names):
+            if n in helpers:
+                continue
             if three_d:
                 ax.text(*xp[k], f" {n}", fontsize=9, zorder=5)
             else:
@@ -272,6 +279,111 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
     if title is not None or not ax.get_title():
         ax.set_title(mech.name if title is None else title, fontsize=10)
     return ax
+
+
+def leg_lines(mech: Mechanism) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The lines of a planar parallel manipulator's legs: ``[(link, point, direction)]``.
+
+    For each joint of the platform (``platform`` in the model file), the leg link it is in
+    (a two-node link): the line through its two nodes, or, for a prismatic leg, the moving
+    line its joint slides on.  Empty without a platform or for a spatial model.
+    """
+    if mech.platform is None or mech.dim != 2:
+        return []
+    x = coordinates(mech)
+    idx = mech.node_index()
+    links = dict(mech.links)
+    joints = links.get(mech.platform, ())
+    out = []
+    for name, nodes in mech.links:
+        if name == mech.platform or len(nodes) != 2:
+            continue
+        on = [n for n in nodes if n in joints]
+        slid = [s for s in mech.sliders if s.kind == "moving_line" and s.link == name and s.node in joints]
+        if slid:
+            a, b = slid[0].line
+        elif len(on) == 1:
+            a, b = nodes
+        else:
+            continue
+        d = x[idx[b]] - x[idx[a]]
+        if np.linalg.norm(d) > 0:
+            out.append((name, x[idx[a]], d / np.linalg.norm(d)))
+    return out
+
+
+def draw_leg_lines(mech: Mechanism, ax=None):
+    """Draw the legs' lines of a planar parallel manipulator and their common point (a type-2 sketch).
+
+    At a type-2 (DKP-input) configuration of a planar parallel manipulator the legs' lines
+    (:func:`leg_lines`) meet in one point (or are parallel); this draws them, dashed, across
+    the drawing, and their least-squares common point as a star.  It only draws: where the
+    lines are parallel (no finite common point within ten extents of the drawing) the star is left out.
+
+    Returns
+    -------
+    matplotlib Axes
+        Lines ``gid`` ``leg-line:LINK``, the point ``gid`` ``common-point``.
+    """
+    if ax is None:
+        ax = new_axes(False)
+    lines = leg_lines(mech)
+    if len(lines) < 2:
+        return ax
+    x = coordinates(mech)
+    extent = max(float(np.ptp(x, axis=0).max()), mech.length_scale)
+    centre = x.mean(axis=0)
+    # least squares: the point nearest to every line, sum of (I - d d^T)(p - a) = 0
+    m = sum(np.eye(2) - np.outer(d, d) for _, _, d in lines)
+    r = sum((np.eye(2) - np.outer(d, d)) @ a for _, a, d in lines)
+    point = np.linalg.lstsq(m, r, rcond=None)[0]
+    finite = bool(np.linalg.norm(point - centre) < 10 * extent)
+    reach = np.linalg.norm(point - centre) + extent if finite else extent
+    for name, a, d in lines:
+        t0 = float((centre - a) @ d)
+        seg = np.array([a + (t0 - reach) * d, a + (t0 + reach) * d])
+        ax.plot(*seg.T, linestyle=(0, (4, 3)), color="#d62728", linewidth=0.9, zorder=1, gid=f"leg-line:{name}",
+                scalex=False, scaley=False)
+    if finite:
+        ax.plot(*point, marker="*", markersize=12, color="#d62728", markeredgecolor="black", linestyle="none",
+                zorder=6, gid="common-point", label="legs' lines meet (type 2)")
+    return ax
+
+
+def _prismatic_legs(mech: Mechanism, x: np.ndarray) -> dict[str, np.ndarray]:
+    """The whole leg of each two-node link that carries a moving line: ``{link: (2, dim) ends}``.
+
+    A prismatic leg is modelled as a link A-D (D a node that only fixes the line) with the
+    platform joint C sliding on the line A-D: it is drawn as one segment over A, D and C, from
+    the base joint to the platform joint, not ending at D.
+    """
+    idx = mech.node_index()
+    links = dict(mech.links)
+    legs: dict[str, np.ndarray] = {}
+    for s in mech.sliders:
+        if s.kind != "moving_line" or s.link not in links or len(links[s.link]) != 2:
+            continue
+        ends = legs.get(s.link, x[[idx[n] for n in links[s.link]]])
+        pts = np.vstack([ends, x[idx[s.node]]])
+        d = x[idx[s.line[1]]] - x[idx[s.line[0]]]
+        along = (pts - pts[0]) @ d
+        legs[s.link] = pts[[int(np.argmin(along)), int(np.argmax(along))]]
+    return legs
+
+
+def _line_helpers(mech: Mechanism) -> set[str]:
+    """Nodes that only define a leg's moving line: in that one link, no slider of theirs, not fixed."""
+    use: dict[str, int] = {}
+    for _, nodes in mech.links:
+        for n in nodes:
+            use[n] = use.get(n, 0) + 1
+    sliding = {s.node for s in mech.sliders}
+    fixed = set(mech.fixed)
+    out = set()
+    for s in mech.sliders:
+        if s.kind == "moving_line":
+            out |= {n for n in s.line if use.get(n, 0) == 1 and n not in sliding and n not in fixed}
+    return out
 
 
 def _draw_link(ax, name: str, pts: np.ndarray, colour: str, three_d: bool, ground: bool) -> None:

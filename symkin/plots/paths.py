@@ -18,10 +18,10 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
 from symkin.paths.trace import Path
-from symkin.plots.mechanism import coordinates, draw_mechanism, is_3d, new_axes, set_equal_3d
+from symkin.plots.mechanism import coordinates, draw_leg_lines, draw_mechanism, is_3d, new_axes, set_equal_3d
 
-__all__ = ["plot_indicators", "plot_traces", "plot_event_configurations", "path_figure", "save_path_figures", "abscissa",
-           "event_label"]
+__all__ = ["plot_indicators", "plot_traces", "plot_input_output", "plot_event_configurations", "path_figure",
+           "save_path_figures", "abscissa", "event_label", "place_labels"]
 
 #: colour and marker of each test function and of its located events
 STYLE = {
@@ -70,11 +70,11 @@ def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray
     steps = np.diff(inputs)
     monotone = bool(np.all(steps > 0) or np.all(steps < 0)) if steps.size else True
     if x == "input" or (x == "auto" and monotone):
-        along = ", along the path from the model's configuration" if path.kind == "angle" else ""
+        along = ",\nalong the path from the model's configuration" if path.kind == "angle" else ""
         return inputs, "input", f"input {path.drive} [{name}]{along}"
     s = np.array([p.s for p in path.points], float)
     why = "the input turns back, so the axis is the" if x == "auto" else ""
-    return s, "arclength", (f"{why} arclength s along the path (in model length scales)" if why else
+    return s, "arclength", (f"{why}\narclength s along the path (in model length scales)" if why else
                             "arclength s along the path (in model length scales)")
 
 
@@ -153,11 +153,7 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
                 linestyle=_LINESTYLE.get(key, "-"))
     ax.axhline(0.0, color="black", linewidth=0.8, zorder=1, gid="zero")
 
-    numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
-    for kind in _EVENT_KINDS:
-        chosen = [(k, e) for k, e in numbered if e.kind == kind]
-        if not chosen:
-            continue
+    for kind, chosen in _events_by_kind(path):
         ex = [(e.input * conv) if mode == "input" else e.s for _, e in chosen]
         st = STYLE[kind]
         ax.plot(ex, [0.0] * len(ex), linestyle="none", marker=st["marker"], markersize=8,
@@ -166,11 +162,12 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
         if annotate:
             for (k, e), xe in zip(chosen, ex):
                 ax.annotate(event_label(path, k, e, unit, lines=True), (xe, 0.0), xytext=(0, 12),
-                            textcoords="offset points", ha="center", fontsize=8, color=st["colour"], zorder=6,
-                            gid=f"event-label:{k}",
+                            textcoords="offset points", ha="center", va="bottom", fontsize=9, color=st["colour"],
+                            zorder=6, gid=f"event-label:{k}",
                             bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
     if yscale == "symlog":
         ax.set_yscale("symlog", linthresh=linthresh)
+    place_labels(ax)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("indicator (dimensionless)")
     if not ax.get_title():
@@ -178,6 +175,65 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=8, frameon=False)
     return ax
+
+
+def _renderer(ax):
+    """The renderer of the canvas ``ax`` is drawn on (an Agg canvas is attached when there is none)."""
+    fig = ax.get_figure(root=True)
+    if fig.canvas is None or not hasattr(fig.canvas, "get_renderer"):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        FigureCanvasAgg(fig)
+    return fig.canvas.get_renderer()
+
+
+def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
+    """Stack the event labels of ``ax`` (annotations whose ``gid`` starts with ``prefix``) so no two overlap.
+
+    Labels are taken from left to right (by the abscissa of their marker); each goes to the
+    lowest tier above its marker where its box, as rendered, meets no label already placed
+    (``gap`` points apart), centred on the marker's abscissa.  The vertical limits
+    then grow so the highest label stays inside the axes (linear scales).  The placement
+    depends on the axes' size: :func:`path_figure` calls it again once the layout is fixed.
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+        The labels, in the order placed.
+    """
+    labels = sorted((t for t in ax.texts if (t.get_gid() or "").startswith(prefix)), key=lambda t: t.xy[0])
+    if not labels:
+        return labels
+    renderer = _renderer(ax)
+    px = renderer.points_to_pixels(1.0)
+    for t in labels:
+        t.xyann = (0.0, 12.0)
+    height = max(t.get_window_extent(renderer).height for t in labels) / px  # points
+    placed = []
+    for t in labels:
+        tier, last = 0, None
+        while True:
+            t.xyann = (0.0, 12.0 + tier * (height + gap))
+            box = t.get_window_extent(renderer).padded(gap * px / 2)
+            if not any(box.overlaps(b) for b in placed) or (last is not None and box.bounds == last.bounds):
+                break  # free, or a label that is not drawn (its box does not move): leave it
+            tier, last = tier + 1, box
+        placed.append(box)
+    if ax.get_yscale() == "linear":  # room above the highest label: y1 so that 0 + its offset fits
+        y0, y1 = ax.get_ylim()
+        h = ax.get_window_extent(renderer).height
+        need = max(b.y1 for b in placed) - ax.transData.transform((0.0, 0.0))[1]  # pixels above the zero line
+        free = h - 6 * px - need
+        if y0 < 0 < y1 and free > 0 and (-y0) * h / free > y1 - y0:
+            ax.set_ylim(y0, y0 + (-y0) * h / free)
+    return labels
+
+
+def _events_by_kind(path: Path):
+    """``[(kind, [(number, event), ...])]`` for each kind of :data:`_EVENT_KINDS` that occurs, numbered as the report."""
+    numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
+    out = [(kind, [(k, e) for k, e in numbered if e.kind == kind]) for kind in _EVENT_KINDS]
+    return [(kind, chosen) for kind, chosen in out if chosen]
 
 
 def _num(v) -> float:
@@ -289,6 +345,97 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
     return ax
 
 
+def _output(path: Path):
+    """The model's scalar output: ``(label, kind)`` or ``None`` (no output, a twist, several scalars)."""
+    from symkin.solutions.frame_coordinates import output_coordinate
+
+    c = output_coordinate(path.mechanism)
+    return None if c is None else (c.label, c.kind)
+
+
+def _unwrap_near(values: np.ndarray, period: float | None, s_values: np.ndarray, s_curve: np.ndarray,
+                 curve: np.ndarray) -> np.ndarray:
+    """Shift wrapped ``values`` by whole periods to the (unwrapped) ``curve`` at the same arclength."""
+    if not period:
+        return values
+    near = np.interp(s_values, s_curve, curve)
+    return values + period * np.round((near - values) / period)
+
+
+def plot_input_output(path: Path, ax=None, unit: str = "deg", *, annotate: bool = True):
+    """The input–output curve of ``path``: the model's output against its input, with the events on it.
+
+    The first figure a kinematician draws of a 1-DOF loop.  Both values are in the
+    convention of the path (and of its text report): the input along the path from the
+    model's configuration, the output relative to the model's configuration, angles in
+    ``unit`` (lengths in model units); the output angle is unwrapped along the path, so the
+    curve is not cut at ±180°.  Every singular event is marked in the style of
+    :func:`plot_indicators` and numbered as in the report; a DKP-input event is where the
+    curve has a vertical tangent (the input turns back), a DKP-output event a horizontal one.
+
+    Parameters
+    ----------
+    path : symkin.paths.trace.Path
+        Of a model with one scalar output (``outputs`` in the model file).
+    ax : matplotlib Axes, optional
+        ``None`` creates a figure.
+    unit : {"deg", "rad"}
+    annotate : bool
+        Number the events.
+
+    Returns
+    -------
+    matplotlib Axes
+        The curve has ``gid`` ``input-output``, the markers ``event:KIND``, the numbers
+        ``event-label:K``.
+
+    Examples
+    --------
+    >>> import matplotlib, symkin.paths.trace
+    >>> matplotlib.use("Agg")
+    >>> ax = plot_input_output(symkin.paths.trace.trace(symkin.catalogue.get("fourbar_appendix"), stop=360,
+    ...                                                 unit="deg"))
+    >>> ax.get_ylabel()
+    "output rotation:rocker [deg]\\nfrom the model's configuration"
+    """
+    _check(path)
+    out = _output(path)
+    if out is None:
+        raise SymkinError(f"{path.mechanism.name} has no scalar output: an input–output curve needs one "
+                          "(outputs = [...] in the model file)")
+    label, kind = out
+    if ax is None:
+        ax = new_axes(False, figsize=(3.5, 3.0))
+    conv_in, name_in = _unit_factor(path, unit)
+    conv_out = (180.0 / math.pi if unit == "deg" else 1.0) if kind == "angle" else 1.0
+    name_out = ("deg" if unit == "deg" else "rad") if kind == "angle" else "model length"
+    period = 360.0 if (kind == "angle" and unit == "deg") else (2 * math.pi if kind == "angle" else None)
+    xs = np.array([p.input for p in path.points], float) * conv_in
+    s_pts = np.array([p.s for p in path.points], float)
+    ys = np.array([path.outputs(p, unit)[label]["relative"] for p in path.points], float)
+    if period:
+        ys = np.unwrap(ys, period=period)
+    ax.plot(xs, ys, color="black", linewidth=1.4, gid="input-output", label="output vs input")
+    for kind_, chosen in _events_by_kind(path):
+        ex = np.array([e.input * conv_in for _, e in chosen])
+        ey = np.array([path.outputs(e, unit)[label]["relative"] for _, e in chosen], float)
+        ey = _unwrap_near(ey, period, np.array([e.s for _, e in chosen]), s_pts, ys)
+        st = STYLE[kind_]
+        ax.plot(ex, ey, linestyle="none", marker=st["marker"], markersize=7, markerfacecolor=st["colour"],
+                markeredgecolor="black", zorder=5, label=str(kind_), gid=f"event:{kind_}")
+        if annotate:
+            for (k, _), x_, y_ in zip(chosen, ex, ey):
+                ax.annotate(str(k), (x_, y_), xytext=(5, 4), textcoords="offset points", fontsize=9, zorder=6,
+                            gid=f"event-label:{k}")
+    ax.set_xlabel(f"input {path.drive} [{name_in}]")
+    ax.set_ylabel(f"output {label} [{name_out}]\nfrom the model's configuration")
+    if not ax.get_title():
+        ax.set_title("Input–output curve", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=9, loc="best")
+    return ax
+
+
 def event_label(path: Path, number: int, event, unit: str = "deg", lines: bool = False) -> str:
     """``"1. IM at 210.9225° (absolute 165.9225°)"``: an event's number, kind, input and absolute angle.
 
@@ -323,7 +470,9 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
 
     Small multiples: every panel has the same axes limits (the extent of the whole path), so
     the panels compare at a glance; each is titled with :func:`event_label` (numbered as in
-    the text report and the JSON) and its types and DOF from the event's analysis.
+    the text report and the JSON) and its types and DOF from the event's analysis.  At a
+    DKP-input (type-2) event of a planar parallel manipulator the legs' lines are drawn with
+    their common point (:func:`~symkin.plots.mechanism.draw_leg_lines`).
 
     Parameters
     ----------
@@ -379,8 +528,10 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
                         gid=f"context-trace:{path.node_names[j]}")
         a = e.analysis
         detail = f"\n{', '.join(a.types) or 'regular'}; L = {a.dof}" if a is not None else ""
-        draw_mechanism(mech.with_coordinates(e.coordinates), ax=ax, labels=True,
-                       title=event_label(path, k, e, unit) + detail)
+        at = mech.with_coordinates(e.coordinates)
+        draw_mechanism(at, ax=ax, labels=True, title=event_label(path, k, e, unit) + detail)
+        if e.kind == Kind.DKP_INPUT and not three_d:  # type 2: the legs' lines are concurrent
+            draw_leg_lines(at, ax=ax)
         ax.title.set_fontsize(8)
         lim = _panel_limits(path, three_d)
         if three_d:
@@ -415,8 +566,12 @@ def path_figure(path: Path, unit: str = "deg"):
     FigureCanvasAgg(fig)
     top, bottom = fig.subfigures(2, 1, height_ratios=[5.6, 3.6 * rows]) if rows else (fig, None)
     three_d = path.mechanism.dim == 3
-    left = top.add_subplot(1, 2, 1)
-    right = top.add_subplot(1, 2, 2, projection="3d" if three_d else None)
+    io = _output(path) is not None
+    ncol = 3 if io else 2
+    left = top.add_subplot(1, ncol, 1)
+    if io:
+        plot_input_output(path, ax=top.add_subplot(1, ncol, 2), unit=unit)
+    right = top.add_subplot(1, ncol, ncol, projection="3d" if three_d else None)
     left.set_title("Indicators along the path", fontsize=10)
     right.set_title("Node traces", fontsize=10)
     plot_indicators(path, ax=left, unit=unit)
@@ -430,6 +585,12 @@ def path_figure(path: Path, unit: str = "deg"):
         bottom.suptitle("The mechanism at each singular configuration (same scale)", fontsize=10)
     fig.suptitle(f"{path.mechanism.name} — driven by {path.drive}; {n_ev} singular event(s); "
                  f"stopped: {path.stop_reason}", fontsize=11)
+    # the labels' places depend on the axes' sizes: place them again once the layout is done, then keep it
+    for _ in range(2):
+        fig.canvas.draw()
+        place_labels(left)
+    fig.canvas.draw()
+    fig.set_layout_engine("none")
     return fig
 
 

@@ -353,4 +353,102 @@ def test_path_figure_has_one_panel_per_event_and_says_when_the_axis_is_arclength
     quiet = trace(symkin.catalogue.get("fourbar_appendix"), stop=30, unit="deg")
     assert not quiet.singular_events()
     fig = path_figure(quiet)
-    assert not fig.subfigs and len(fig.axes) == 2
+    assert not fig.subfigs and len(fig.axes) == 3  # indicators, input–output, traces
+
+
+# ---------------------------------------------------------------------- labels that do not overlap, input–output
+def _label_boxes(fig, ax):
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    return [(t.get_gid(), t.get_window_extent(renderer)) for t in ax.texts
+            if (t.get_gid() or "").startswith("event-label:")]
+
+
+def _assert_no_two_intersect(boxes):
+    for i, (ga, a) in enumerate(boxes):
+        for gb, b in boxes[i + 1:]:
+            assert not a.overlaps(b), f"{ga} and {gb} overlap: {a.bounds} / {b.bounds}"
+
+
+@pytest.mark.parametrize("name", ["rrr_3", "peaucellier"])
+def test_event_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path):
+    from symkin.plots.paths import path_figure
+
+    path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path}[name]
+    fig = path_figure(path)
+    indicators = fig.subfigs[0].axes[0]
+    boxes = _label_boxes(fig, indicators)
+    assert len(boxes) == len(path.singular_events())
+    _assert_no_two_intersect(boxes)
+    # every label is inside the indicator axes (none runs into the title)
+    frame = indicators.get_window_extent()
+    assert all(frame.y0 <= b.y0 and b.y1 <= frame.y1 for _, b in boxes)
+    # standalone, on a narrow axes where the events are close together (peaucellier: 1 and 3 coincide)
+    fig, ax = plt.subplots(figsize=(3.5, 2.8))
+    plot_indicators(path, ax=ax)
+    _assert_no_two_intersect(_label_boxes(fig, ax))
+
+
+def test_input_output_curve_is_the_output_against_the_input_with_the_events_on_it(fourbar_path):
+    from symkin.plots.paths import path_figure, plot_input_output
+
+    ax = plot_input_output(fourbar_path)
+    line = by_gid(ax.lines, "input-output")
+    np.testing.assert_allclose(line.get_xdata(), np.degrees([p.input for p in fourbar_path.points]), atol=1e-12)
+    rel = np.array([fourbar_path.outputs(p, "deg")["rotation:rocker"]["relative"] for p in fourbar_path.points])
+    y = np.asarray(line.get_ydata())
+    np.testing.assert_allclose(np.remainder(y - rel + 180, 360) - 180, 0, atol=1e-9)  # same angles, unwrapped
+    assert np.abs(np.diff(y)).max() < 90  # not cut at ±180°
+    ev = by_gid(ax.lines, "event:DKP-output")
+    sing = fourbar_path.singular_events()
+    np.testing.assert_allclose(ev.get_xdata(), [math.degrees(e.input) for e in sing], atol=1e-12)
+    # a DKP-output event is a turning point of the output: the marker sits at an extremum of the curve
+    for xe, ye in zip(ev.get_xdata(), ev.get_ydata()):
+        near = np.abs(line.get_xdata() - xe) < 15
+        assert ye >= y[near].max() - 1e-6 or ye <= y[near].min() + 1e-6
+    assert "[deg]" in ax.get_xlabel() and "rotation:rocker" in ax.get_ylabel()
+    assert len(path_figure(fourbar_path).subfigs[0].axes) == 3  # indicators, input–output, traces
+    with pytest.raises(SymkinError, match="no scalar output"):
+        plot_input_output(trace(symkin.catalogue.get("rrr_3"), stop=30, unit="deg"))
+
+
+@pytest.mark.parametrize("model", ["rpr_3", "gough_stewart"])
+def test_prismatic_legs_are_drawn_whole_from_base_joint_to_platform_joint(model):
+    from tests.conftest import ROOT
+
+    mech = symkin.read_model(ROOT / "examples" / f"{model}.toml")
+    ax = draw_mechanism(mech)
+    assert ax.name == ("3d" if mech.dim == 3 else "rectilinear")  # spatial models in 3-D
+    xyz = mech.coordinates()
+    legs = [s for s in mech.sliders if s.kind == "moving_line"]
+    assert legs
+    for s in legs:
+        line = by_gid(ax.lines, f"link:{s.link}")
+        data = line.get_data_3d() if mech.dim == 3 else line.get_data()
+        ends = sorted(map(tuple, np.round(np.column_stack(data), 12)))
+        base = s.line[0]
+        assert ends == sorted([tuple(np.round(xyz[base], 12)), tuple(np.round(xyz[s.node], 12))])
+    # the node that only carries the line is not drawn as a joint nor named
+    helpers = {s.line[1] for s in legs}
+    assert not helpers & {t.get_text().strip() for t in ax.texts}
+
+
+def test_type_2_panels_draw_the_legs_lines_meeting_in_one_point(rrr_path):
+    from symkin.plots.paths import plot_event_configurations
+
+    axes = plot_event_configurations(rrr_path)
+    for ax, e in zip(axes, rrr_path.singular_events()):
+        lines = [line for line in ax.lines if (line.get_gid() or "").startswith("leg-line:")]
+        if e.kind != "DKP-input":
+            assert not lines and not gids(ax.lines, "common-point")
+            continue
+        assert gids(lines) == ["leg-line:distal1", "leg-line:distal2", "leg-line:distal3"]
+        (point,) = [np.array([line.get_xdata()[0], line.get_ydata()[0]]) for line in ax.lines
+                    if line.get_gid() == "common-point"]
+        # independent check: the distal links' lines B_k-C_k (at the event) all pass through the point
+        idx = {n: k for k, n in enumerate(rrr_path.node_names)}
+        for k in (1, 2, 3):
+            b, c = e.coordinates[idx[f"B{k}"]], e.coordinates[idx[f"C{k}"]]
+            d = (c - b) / np.linalg.norm(c - b)
+            w = point - b
+            assert abs(w[0] * d[1] - w[1] * d[0]) < 1e-3 * rrr_path.mechanism.length_scale
