@@ -83,6 +83,26 @@ class Tolerances:
         deficient (the closure of an over-constrained mechanism, whose redundant rows make
         its Jacobian singular): singular values below ``pinv · σ_max`` are treated as zero
         (default ``1e-12``: a rank deficiency at the rounding level of an O(1) Jacobian).
+    flat : float
+        Along a traced curve, a signed test below this at both ends of a step is identically
+        zero there, with no isolated root to locate (the curve runs along such a configuration,
+        e.g. a locked input link); default ``1e-9``, two decades below the event threshold.
+    root : float
+        A located sign change must bring its test below this fraction of its bracket's values,
+        else the sign changed through a jump, not a zero (default ``1e-6``).
+    sign_change_xtol : float
+        Brent's tolerance on the dimensionless projection of a sign change along a curve
+        (default ``1e-14``: a few roundings of a coordinate of order 1).
+    minimum_xtol : float
+        Brent's tolerance on the projection of a minimum (default ``1e-13``: a minimum is flat,
+        its place is determined to about the square root of the test's rounding only).
+    deflate_singular : float
+        The singular-point locator deflates its system where the smallest singular value of
+        the system's Jacobian is below this fraction of the largest (default ``1e-7``: above the
+        ~1e-8 relative rounding of a point Newton reached there).
+    branch_step : float
+        Steps at which the half-branch search around a vertex stops (Newton on the reduced
+        unknown, Brent on the angle; default ``1e-15``: a few roundings).
     kernel_margin : float
         Factor on singular values by which the generated indicator kernel must clear the
         rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
@@ -100,6 +120,12 @@ class Tolerances:
     closure: float = 1e-13
     locate: float = 1e-14
     pinv: float = 1e-12
+    flat: float = 1e-9
+    root: float = 1e-6
+    sign_change_xtol: float = 1e-14
+    minimum_xtol: float = 1e-13
+    deflate_singular: float = 1e-7
+    branch_step: float = 1e-15
 
     @property
     def event_threshold(self) -> float:

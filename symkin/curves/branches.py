@@ -30,8 +30,8 @@ HALF_BRANCH_RADIUS = 0.02
 HALF_BRANCH_SAMPLES = 1440
 #: the reduced unknown ``w`` stays small next to the circle (O(ρ²)); beyond this the correction left it
 MAX_OFFSET = 1.0
-#: Newton on ``w`` and Brent on ``α`` stop at a step of this (a few roundings: points to ~1e-15)
-STEP_TOL = 1e-15
+#: Newton on ``w`` and Brent on ``α`` stop at a step of this (:attr:`Tolerances.branch_step`)
+STEP_TOL = DEFAULT.branch_step
 #: iterations of the corrector on ``w`` (quadratic from the warm start of the previous grid angle)
 ITERATIONS = 30
 

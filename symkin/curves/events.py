@@ -44,10 +44,10 @@ __all__ = ["EventType", "SingularEvent", "StopRule", "ParameterReached", "Closed
 
 #: a signed test below this at both ends of a step is identically zero there: no isolated root
 #: (the curve runs along such a configuration, e.g. a locked input link)
-FLAT = 1e-9
+FLAT = DEFAULT.flat
 #: a located root must bring the test below this fraction of its bracket values (else the sign
 #: changed through a jump, not a zero)
-ROOT = 1e-6
+ROOT = DEFAULT.root
 #: a local minimum of a non-negative test below this is refined (and accepted below ``threshold``);
 #: singular values of the dimensionless Jacobian are O(1) away from singularities
 DETECT = 0.05

@@ -46,9 +46,9 @@ __all__ = ["CurveEvent", "SingularPoint", "locate_sign_change", "locate_minimum"
            "as_casadi", "nullity", "polish", "refine_singular", "MAX_DEFLATIONS"]
 
 #: Brent's tolerance on the projection σ of a sign change (dimensionless: a few roundings of |y| ~ 1)
-SIGN_CHANGE_XTOL = 1e-14
+SIGN_CHANGE_XTOL = DEFAULT.sign_change_xtol
 #: Brent's tolerance on σ of a minimum (a minimum is flat: σ is determined to ~√ε of the test only)
-MINIMUM_XTOL = 1e-13
+MINIMUM_XTOL = DEFAULT.minimum_xtol
 #: Brent's iterations at most (bisection of a unit bracket to ~1e-14 takes ~47)
 BRENT_ITERATIONS = 200
 #: at most this many deflations (each doubles the unknowns; the double butterfly's tangent contacts need 2,
@@ -56,7 +56,7 @@ BRENT_ITERATIONS = 200
 MAX_DEFLATIONS = 2
 #: the system (1) counts as singular where the smallest singular value of its Jacobian is below this
 #: fraction of the largest (rounding of the Newton-reached point is ~1e-8 relative there: 1e-7 is above it)
-DEFLATE_SINGULAR = 1e-7
+DEFLATE_SINGULAR = DEFAULT.deflate_singular
 #: a next singular value of ``J`` below this fraction of the largest may hide a point of higher nullity
 HIGHER_NULLITY = 0.05
 #: nullity of a curve's Jacobian at a branch point (a curve's generic nullity is 1)
