@@ -88,7 +88,7 @@ Algorithm
    a grid line (:func:`symkin.workspace.quadtree.dips`) starts an adaptive subdivision of the
    cells around it (to :data:`~symkin.workspace.quadtree.DEPTH`; every dip of a kind not next
    to a curve traced so far subdivided together, one batch per level and sub-step, as in step 4):
-   its finest sign changes are located as in step 1 (two crossings in one cell, a small
+   its finest sign changes are located as in step 1, in one batch per dip (two crossings in one cell, a small
    closed curve), its finest minima by :func:`locate_double_zero` (``T = 0`` with
    ``∂T/∂n = 0``); a double zero the core confirms is traced by :func:`trace_double_zero`.
    Dips are taken in grid order; one that a curve traced from an earlier dip passes is skipped.
@@ -417,10 +417,13 @@ def refine(system, grid: GridData, mode: Any = 0, tolerances: Tolerances = DEFAU
             return
         stats.dips += 1
         stats.subdivided += sub.samples
-        for aa, ya, ab, yb in sub.crossings:
-            locate_and_take((kind,), None, None,
-                            lambda: (kind, locate_crossing(pb, kind, aa, ya, ab, yb)[0]),
-                            (NotConvergedError, ValueError), mid=0.5 * (aa + ab))
+        if sub.crossings:  # the subdivision's sign changes located at once (each is checked once located)
+            before = pb.counter.n
+            located_here = locate_crossings(pb, kind, *(np.array([c[i] for c in sub.crossings]) for i in range(4)))
+            stats.locate_evaluations += pb.counter.n - before
+            for (aa, ya, ab, yb), found in zip(sub.crossings, located_here):
+                locate_and_take((kind,), None, None, lambda found=found: (kind, _found(found)),
+                                NotConvergedError, mid=0.5 * (aa + ab))
         for a, y, h in sub.dips:
             before = pb.counter.n
             found = None
