@@ -18,6 +18,14 @@ import sympy as sp
 __all__ = ["Factor", "Condition"]
 
 
+def _json_exponent(e):
+    """A factor's exponent as JSON: an int (sympy's ``-1`` is ``NegativeOne``, not an int), else a string."""
+    try:
+        return int(e) if sp.sympify(e).is_integer else sp.sstr(e)
+    except (TypeError, ValueError, sp.SympifyError):
+        return sp.sstr(e)
+
+
 @dataclass(frozen=True)
 class Factor:
     """One factor of a condition.
@@ -206,14 +214,15 @@ class Condition:
         return out
 
     def as_dict(self) -> dict:
-        """JSON-ready summary (strings)."""
+        """JSON-ready summary: expressions as strings; a factor's ``exponent`` an int, or a string such
+        as ``"-1/2"`` when fractional (the square-root scale of a row in node coordinates)."""
         return {"kind": self.kind, "labels": list(self.labels), "method": self.method,
                 "coordinates": self.coordinates, "seconds": self.seconds,
                 "identically_zero": self.identically_zero, "never": self.never,
                 "readable": sp.sstr(self.readable), "expression": sp.sstr(self.expression),
-                "geometric_factors": [{"readable": sp.sstr(f.readable), "exponent": f.exponent,
+                "geometric_factors": [{"readable": sp.sstr(f.readable), "exponent": _json_exponent(f.exponent),
                                        "meaning": f.meaning} for f in self.geometric_factors],
-                "trivial_factors": [{"readable": sp.sstr(f.readable), "exponent": f.exponent,
+                "trivial_factors": [{"readable": sp.sstr(f.readable), "exponent": _json_exponent(f.exponent),
                                      "meaning": f.meaning} for f in self.trivial_factors],
                 "constant": sp.sstr(self.constant), "minors": [sp.sstr(m) for m in self.minors],
                 "note": self.note}

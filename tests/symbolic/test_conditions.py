@@ -442,6 +442,10 @@ def test_conditions_command(tmp_path):
     data = json.loads(_run([model, "--json"]).text)
     assert [c["kind"] for c in data["conditions"]] == ["IM", "DKP-input", "DKP-output"]
     assert data["conditions"][1]["value_at_model"] == pytest.approx(-1.0411221229247225)
+    # node coordinates: the rows' scales are factors of negative (half-)integer exponent
+    by_node = json.loads(_run([model, "--coordinates", "nodes", "--json"]).text)
+    exps = [f["exponent"] for c in by_node["conditions"] for f in c["trivial_factors"]]
+    assert -1 in exps and "-1/2" in exps and type(exps[exps.index(-1)]) is int
     spatial = tmp_path / "rssr.json"
     spatial.write_text(json.dumps(catalogue.data("rssr")))
     with pytest.raises(SymkinError, match="planar"):
