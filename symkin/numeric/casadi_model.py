@@ -39,6 +39,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from symkin.constraints import Body, constraints_of
+from symkin.constraints.algebra import Casadi
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.geometric_matrix import affine_frame, coordinate_labels, free_mask
 from symkin.numeric.linalg import affine_hull
@@ -96,12 +98,6 @@ def _normal_basis(u: ca.SX) -> list[ca.SX]:
     n1 = axis - _dot(axis, u) * u
     n1 = n1 / _norm(n1)
     return [n1, _cross(u, n1)]
-
-
-def _const_normal_basis(u: np.ndarray) -> np.ndarray:
-    from symkin.numeric.linalg import normal_basis
-
-    return normal_basis(u)
 
 
 # ---------------------------------------------------------------------- the model
@@ -220,52 +216,25 @@ class _Builder:
             cols[i] = cols[i] + ca.reshape(v, 1, d)
         return ca.horzcat(*cols)
 
-    # -- constraint rows (mirrors geometric_matrix._constraint_rows_cached)
+    # -- constraint rows: the definitions of symkin.constraints evaluated in SX
     def constraints(self):
         rows, owners, closure = [], [], []
-        mech, index = self.mech, self.index
-        for name, ns in mech.links:
-            idx = [index[n] for n in ns]
-            for a in range(len(idx)):
-                for b in range(a + 1, len(idx)):
-                    i, j = idx[a], idx[b]
-                    d = self.node(j) - self.node(i)
-                    ln = _norm(d)
-                    u = d / ln
-                    rows.append(self.row({i: u, j: -u}))
-                    owners.append(f"link {name} ({ns[a]}-{ns[b]})")
-                    length0 = float(np.linalg.norm(self.xyz0[j] - self.xyz0[i]))
-                    big_l = self.param(f"length {name} ({ns[a]}-{ns[b]})", length0)
-                    closure.append((big_l * big_l - _dot(d, d)) / (2 * big_l))
-            if len(idx) >= 3:
-                r, c = self.body_extra(name, ns, idx)
+        alg = Casadi(self.param)
+        dim = self.dim
+        X = [tuple(self.x[dim * i + a] for a in range(dim)) for i in range(len(self.mech.nodes))]
+        X0 = [tuple(map(float, c)) for c in self.xyz0]
+        for con in constraints_of(self.mech):
+            if isinstance(con, Body):
+                r, c = self.body_extra(con.link, con.names, list(con.idx))
                 rows += r
                 closure += c
-                owners += [f"link {name} (rigidity out of its hull)"] * len(r)
-        for s in mech.sliders:
-            p = index[s.node]
-            if s.kind == "moving_line":
-                a, c = index[s.line[0]], index[s.line[1]]
-                e = self.node(c) - self.node(a)
-                le = _norm(e)
-                u = e / le
-                t = _dot(self.node(p) - self.node(a), u) / le
-                for n in _normal_basis(u):
-                    rows.append(self.row({p: n, a: -(1 - t) * n, c: -t * n}))
-                    owners.append(f"slider {s.id}")
-                    closure.append(_dot(n, self.node(p) - self.node(a)))
-            else:
-                vec = np.array(s.direction if s.kind == "line" else s.normal, dtype=float)
-                u = vec / np.linalg.norm(vec)
-                normals = _const_normal_basis(u) if s.kind != "plane" else u[None, :]
-                point = np.array(s.point, dtype=float)
-                for k, n in enumerate(normals):
-                    nsx = ca.SX(ca.DM(n))
-                    rows.append(self.row({p: nsx}))
-                    owners.append(f"slider {s.id}")
-                    off = self.param(f"offset slider {s.id}" + (f" [{k}]" if len(normals) > 1 else ""),
-                                     float(n @ point))
-                    closure.append(_dot(nsx, self.node(p)) - off)
+                owners += [con.owner] * len(r)
+                continue
+            for r in con.rows(alg, X, X0):
+                inv = 1 / r.scale
+                rows.append(self.row({k: ca.vertcat(*[v * inv for v in vec]) for k, vec in r.blocks().items()}))
+                owners.append(con.owner)
+            closure += [eq.numerator / eq.denominator for eq in con.equations(alg, X, X0)]
         j = ca.vertcat(*rows) if rows else ca.SX(0, self.D)
         phi = ca.vertcat(*closure) if closure else ca.SX(0, 1)
         return j, tuple(owners), phi
