@@ -173,10 +173,10 @@ class Sympy:
         self.atan2 = sp.atan2
 
     def const(self, value, what: str = ""):
-        if self._const is not None:
-            return self._const(value, what)
         if isinstance(value, self.sp.Basic):
             return value
+        if self._const is not None:
+            return self._const(value, what)
         return self.sp.Rational(repr(float(value)))
 
     def param(self, label: str, value):
