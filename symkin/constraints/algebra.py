@@ -9,6 +9,7 @@ operation                   :class:`Floats`        :class:`Casadi`     :class:`S
 ==========================  =====================  ==================  ==========================
 ``sqrt``, ``atan2``, ...    :mod:`math`            ``casadi``          ``sympy``
 ``const(v, what)``          ``float(v)``           ``float(v)``        a hook (exact, snapped)
+``point``, ``direction``    floats                 floats              hooks (snapped, scaled)
 ``param(label, v)``         ``v``                  a new symbol        ``const(v)``
 ``pair_length(link, ...)``  ``|d|``                ``|d|``             a hook (a length symbol)
 ``least_aligned(e, e0)``    at ``e`` (now)         ``if_else`` on e    at ``e0`` (the model)
@@ -99,6 +100,11 @@ class Floats:
     def pair_length(self, link, a, b, d):
         return math.sqrt(dot(d, d))
 
+    def point(self, values, what: str = "") -> tuple:
+        return tuple(float(v) for v in values)
+
+    direction = point
+
     def least_aligned(self, e, e0) -> tuple:
         return _one_hot(_argmin_abs(e), len(e))
 
@@ -132,6 +138,11 @@ class Casadi:
     def pair_length(self, link, a, b, d):
         return self.ca.sqrt(dot(d, d))
 
+    def point(self, values, what: str = "") -> tuple:
+        return tuple(float(v) for v in values)
+
+    direction = point
+
     def least_aligned(self, e, e0) -> tuple:
         """The numeric core's choice (first minimum of ``|e_k|``) as ``if_else`` switches."""
         ca = self.ca
@@ -163,12 +174,14 @@ class Sympy:
     name = "sympy"
     exact = True
 
-    def __init__(self, const_hook: Callable | None = None, length_hook: Callable | None = None):
+    def __init__(self, const_hook: Callable | None = None, length_hook: Callable | None = None,
+                 point_hook: Callable | None = None, direction_hook: Callable | None = None):
         import sympy as sp
 
         self.sp = sp
         self._const = const_hook
         self._length = length_hook
+        self._point, self._direction = point_hook, direction_hook
         self.sqrt, self.sin, self.cos = sp.sqrt, sp.sin, sp.cos
         self.atan2 = sp.atan2
 
@@ -186,6 +199,16 @@ class Sympy:
         if self._length is not None:
             return self._length(link, a, b, d)
         return self.sp.sqrt(self.sp.expand(dot(d, d)))
+
+    def point(self, values, what: str = "") -> tuple:
+        if self._point is not None:
+            return self._point(values, what)
+        return tuple(self.const(v, what) for v in values)
+
+    def direction(self, values, what: str = "") -> tuple:
+        if self._direction is not None:
+            return self._direction(values, what)
+        return tuple(self.const(v, what) for v in values)
 
     def least_aligned(self, e, e0) -> tuple:
         return _one_hot(_argmin_abs([float(v) for v in e0]), len(e0), self.sp.Integer(1), self.sp.Integer(0))

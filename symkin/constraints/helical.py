@@ -73,9 +73,9 @@ class Helical(Constraint):
         if self.moving:
             e = sub(X[self.c], X[self.a])
             return e, alg.pair_length(h.link, h.line[0], h.line[1], e), X[self.a], sub(X[self.g], X[self.a])
-        e = tuple(alg.const(v, f"axis of helical {h.id}") for v in h.direction)
-        point = tuple(alg.const(v, f"point of helical {h.id}") for v in h.point)
-        ref = tuple(alg.const(v, f"reference of helical {h.id}") for v in _reference(h.direction))
+        e = alg.direction(h.direction, f"axis of helical {h.id}")
+        point = alg.point(h.point, f"point of helical {h.id}")
+        ref = alg.direction(_reference(h.direction), f"reference of helical {h.id}")
         return e, alg.sqrt(dot(e, e)), point, ref
 
     def rows(self, alg, X, X0) -> list[Row]:

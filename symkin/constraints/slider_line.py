@@ -27,7 +27,8 @@ class SliderLine(Constraint):
         return dim - 1
 
     def _vector(self, alg, which: str, values):
-        return tuple(alg.const(v, f"{which} {'xyz'[a]} of slider {self.slider.id}") for a, v in enumerate(values))
+        what = f"{which} of slider {self.slider.id}"
+        return alg.point(values, what) if which == "point" else alg.direction(values, what)
 
     def _normals(self, alg):
         d = self._vector(alg, "direction", self.slider.direction)

@@ -25,7 +25,8 @@ class SliderPlane(Constraint):
         return 1
 
     def _vector(self, alg, which: str, values):
-        return tuple(alg.const(v, f"{which} {'xyz'[a]} of slider {self.slider.id}") for a, v in enumerate(values))
+        what = f"{which} of slider {self.slider.id}"
+        return alg.point(values, what) if which == "point" else alg.direction(values, what)
 
     def rows(self, alg, X, X0) -> list[Row]:
         n = self._vector(alg, "normal", self.slider.normal)

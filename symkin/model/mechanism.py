@@ -47,12 +47,21 @@ class Slider:
 
     @property
     def kind(self) -> str:
-        """``"line"`` (fixed line), ``"moving_line"`` or ``"plane"``."""
+        """``"line"`` (fixed line), ``"moving_line"`` or ``"plane"``: the name of its form.
+
+        The stages do not dispatch on it: the constraint registry
+        (:func:`symkin.constraints.constraints_of`) maps each form to its definition.
+        """
         if self.line is not None:
             return "moving_line"
         if self.normal is not None:
             return "plane"
         return "line"
+
+    @property
+    def carriers(self) -> tuple[str, ...]:
+        """The nodes of the moving line it slides on; ``()`` when the fixed frame holds it."""
+        return self.line or ()
 
     def to_dict(self) -> dict:
         out: dict = {"id": self.id, "node": self.node}
