@@ -12,7 +12,7 @@ the two equal.
 """
 from __future__ import annotations
 
-import math
+import numpy as np
 
 from symkin.constraints.algebra import dot, sub
 from symkin.constraints.base import Constraint, Equation, Row
@@ -41,5 +41,6 @@ class Bar(Constraint):
 
     def equations(self, alg, X, X0) -> list[Equation]:
         d = sub(X[self.j], X[self.i])
-        length = alg.param(f"length {self.owner[5:]}", math.dist(X0[self.i], X0[self.j]))
+        # the model's length as NumPy's norm (the closure's parameter, to the last bit as before)
+        length = alg.param(f"length {self.owner[5:]}", float(np.linalg.norm(np.subtract(X0[self.j], X0[self.i]))))
         return [Equation(length * length - dot(d, d), 2 * length)]

@@ -65,7 +65,7 @@ class Constraint:
         The model key to name when a backend refuses the constraint (a joint, a slider).
     """
 
-    kind = "constraint"
+    kind = "base"
     polynomial = True
     owner = ""
     element = ""

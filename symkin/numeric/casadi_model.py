@@ -230,9 +230,8 @@ class _Builder:
                 closure += c
                 owners += [con.owner] * len(r)
                 continue
-            for r in con.rows(alg, X, X0):
-                inv = 1 / r.scale
-                rows.append(self.row({k: ca.vertcat(*[v * inv for v in vec]) for k, vec in r.blocks().items()}))
+            for r in con.rows(alg, X, X0):  # divided by the scale (not times its inverse): the core's rounding
+                rows.append(self.row({k: ca.vertcat(*[v / r.scale for v in vec]) for k, vec in r.blocks().items()}))
                 owners.append(con.owner)
             closure += [eq.numerator / eq.denominator for eq in con.equations(alg, X, X0)]
         j = ca.vertcat(*rows) if rows else ca.SX(0, self.D)
