@@ -10,7 +10,11 @@ enter as constants taken from the model.  Every row is the same dimensionless ro
 * degenerate rigid body (collinear nodes; coplanar nodes in 3D): ``n·(ẋ_m - Σ c_k ẋ_k)``
   for each normal ``n`` of the affine hull and each node ``m`` off the frame;
 * slider on a fixed line / plane: ``n·ẋ_P``; on the moving line A-C:
-  ``n·(ẋ_P - (1-t) ẋ_A - t ẋ_C)``.
+  ``n·(ẋ_P - (1-t) ẋ_A - t ẋ_C)``; the screw row of a helical pair.
+
+Bars, sliders and helical pairs are their definitions of :mod:`symkin.constraints`
+evaluated in SX (rows and closure equations alike); the degenerate bodies' rows are
+written here.
 
 Discrete choices the core makes at every configuration (the node of a link farthest
 from its first node, the coordinate axis least aligned with a line) are reproduced with

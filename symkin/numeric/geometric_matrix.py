@@ -14,7 +14,14 @@ sum, ``G = Σ a aᵀ = Jᵀ J`` (eqs. 2-3).  The rows are:
 * a slider on a fixed line / plane: ``n·ẋ = 0`` for each normal ``n`` of the line
   (one in 2D, two in 3D) or the plane's normal;
 * a slider on the moving line through nodes A, C: ``n·(ẋ_P − (1−t)ẋ_A − t ẋ_C) = 0``
-  with ``t`` the position of P on A→C.
+  with ``t`` the position of P on A→C;
+* the screw row of a helical pair (slide = pitch × relative rotation).
+
+Each kind is defined once, in :mod:`symkin.constraints` (the same definitions give the
+CasADi, sympy and polynomial forms); here the sliders and helical pairs are those
+definitions evaluated in floats, and the bars are the vectorised evaluation of
+:class:`symkin.constraints.Bar` (a test keeps them equal).  The out-of-hull rows of a
+degenerate body are written here (:mod:`symkin.constraints.body` says why).
 
 Fixed nodes are boundary conditions: the analysis works on the *free* coordinates
 (the reduced matrix); :func:`geometric_matrix` with ``boundary=True`` returns the
