@@ -81,7 +81,7 @@ def slider_constraints(mech) -> tuple[Constraint, ...]:
 def slider_constraint(mech, ref: str) -> Constraint:
     """The constraint of the slider ``ref`` (by id, or by node: :meth:`Mechanism.slider`)."""
     s = mech.slider(ref)
-    return next(c for c in slider_constraints(mech) if getattr(c, "slider", None) is s)
+    return next(c for c in slider_constraints(mech) if getattr(c, "slider", None) == s)
 
 
 def polynomial_constraints(mech, what: str) -> tuple[Constraint, ...]:

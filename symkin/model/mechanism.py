@@ -430,7 +430,9 @@ class Mechanism:
                        outputs=tuple(param(p) for p in self.outputs),
                        joint_rates=tuple((lab, param(p)) for lab, p in self.joint_rates),
                        joints=tuple(replace(j, at=place(j.at), axis=j.axis and turn(j.axis),
-                                            axis2=j.axis2 and turn(j.axis2)) for j in self.joints))
+                                            axis2=j.axis2 and turn(j.axis2),
+                                            **({"pitch": scale * j.pitch} if getattr(j, "pitch", None) is not None
+                                               else {})) for j in self.joints))
 
     # ------------------------------------------------------------------ queries
     @cached_property
