@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from typing import Callable
 
-__all__ = ["Floats", "Casadi", "Sympy", "FLOATS", "dot", "cross", "sub", "add", "scaled", "perp"]
+__all__ = ["Floats", "Casadi", "Sympy", "FLOATS", "dot", "cross", "sub", "add", "scaled", "perp", "normal_basis"]
 
 
 # ---------------------------------------------------------------------- vectors (tuples)
@@ -65,6 +65,25 @@ def scaled(s, a) -> tuple:
 def perp(a) -> tuple:
     """``a`` turned by +90° (planar)."""
     return (-a[1], a[0])
+
+
+def normal_basis(u):
+    """Orthonormal basis (rows) of the complement of unit vector ``u`` (2D: 1 row, 3D: 2 rows).
+
+    Deterministic: in 3D the first normal is built from the coordinate axis least
+    aligned with ``u``.  Quantities built as sums over this basis (projectors) do not
+    depend on the choice.  (NumPy arrays; the numeric core's and the CasADi model's
+    constant normals.)
+    """
+    import numpy as np
+
+    if u.size == 2:
+        return np.array([[-u[1], u[0]]])
+    axis = np.zeros(3)
+    axis[int(np.argmin(np.abs(u)))] = 1.0
+    n1 = axis - axis.dot(u) * u
+    n1 /= np.linalg.norm(n1)
+    return np.vstack([n1, np.cross(u, n1)])
 
 
 def _argmin_abs(v) -> int:
@@ -111,6 +130,23 @@ class Floats:
     def zero(self):
         return 0.0
 
+    # the vector operations of the numeric core, with NumPy's rounding (its rows, bit for bit)
+    def norm(self, v):
+        import numpy as np
+
+        return float(np.linalg.norm(np.asarray(v, dtype=float)))
+
+    def inner(self, a, b):
+        import numpy as np
+
+        return float(np.dot(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
+
+    def unit_normals(self, u) -> list[tuple]:
+        """The normals of the unit vector ``u``: :func:`normal_basis`."""
+        import numpy as np
+
+        return [tuple(map(float, n)) for n in normal_basis(np.asarray(u, dtype=float))]
+
 
 #: the float algebra (stateless)
 FLOATS = Floats()
@@ -142,6 +178,29 @@ class Casadi:
         return tuple(float(v) for v in values)
 
     direction = point
+
+    def norm(self, v):
+        if all(isinstance(c, (int, float)) for c in v):
+            return FLOATS.norm(v)
+        return self.ca.sqrt(dot(v, v))
+
+    def inner(self, a, b):
+        if all(isinstance(c, (int, float)) for c in tuple(a) + tuple(b)):
+            return FLOATS.inner(a, b)
+        return dot(a, b)
+
+    def unit_normals(self, u) -> list[tuple]:
+        """:func:`normal_basis` of the unit vector ``u``, the axis picked by ``if_else`` (as the core)."""
+        if all(isinstance(c, (int, float)) for c in u):
+            return FLOATS.unit_normals(u)
+        if len(u) == 2:
+            return [(-u[1], u[0])]
+        axis = self.least_aligned(u, None)
+        d = dot(axis, u)
+        n1 = tuple(a - d * c for a, c in zip(axis, u))
+        length = self.ca.sqrt(dot(n1, n1))
+        n1 = tuple(c / length for c in n1)
+        return [n1, cross(u, n1)]
 
     def least_aligned(self, e, e0) -> tuple:
         """The numeric core's choice (first minimum of ``|e_k|``) as ``if_else`` switches."""
@@ -212,6 +271,12 @@ class Sympy:
 
     def least_aligned(self, e, e0) -> tuple:
         return _one_hot(_argmin_abs([float(v) for v in e0]), len(e0), self.sp.Integer(1), self.sp.Integer(0))
+
+    def norm(self, v):
+        return self.sp.sqrt(self.sp.expand(dot(v, v)))
+
+    def inner(self, a, b):
+        return dot(a, b)
 
     def zero(self):
         return self.sp.Integer(0)

@@ -83,14 +83,18 @@ class Constraint:
 
 
 def normals(alg, e, e0, length) -> list[tuple[tuple, object]]:
-    """The normals of the direction ``e`` as ``(vector, norm)`` pairs (unnormalised vectors).
+    """The normals of the direction ``e`` (of norm ``length``) as ``(vector, norm)`` pairs.
 
-    Planar: ``perp(e)`` of norm ``length`` (``= |e|``).  Spatial: with ``a`` the coordinate
-    axis least aligned with ``e`` (:meth:`least_aligned`: decided at ``e`` or at the model's
-    ``e0``) and ``w = e × a``, the pair ``(w × e, w)`` of norms ``|w|·length`` and ``|w|``;
-    normalised, it is :func:`symkin.numeric.linalg.normal_basis` of ``e/|e|`` (same order,
-    same signs), and ``Σ n nᵀ/|n|² = I − ê êᵀ`` whatever the axis.
+    Exact algebras (polynomial vectors): planar ``perp(e)`` of norm ``length``; spatial, with
+    ``a`` the coordinate axis least aligned with ``e`` (decided at the model's ``e0``) and
+    ``w = e × a``, the pair ``(w × e, w)`` of norms ``|w|·length`` and ``|w|``.  Numeric
+    algebras: :func:`~symkin.constraints.algebra.normal_basis` of ``u = e/length`` (the same
+    vectors normalised, the axis decided at ``e``; norms 1), with the numeric core's rounding.
+    Either way ``Σ n nᵀ/|n|² = I − ê êᵀ``.
     """
+    if not alg.exact:
+        one = alg.const(1)
+        return [(n, one) for n in alg.unit_normals(tuple(c / length for c in e))]
     if len(e) == 2:
         return [(perp(e), length)]
     w = cross(e, alg.least_aligned(e, e0))

@@ -32,7 +32,7 @@ class SliderLine(Constraint):
 
     def _normals(self, alg):
         d = self._vector(alg, "direction", self.slider.direction)
-        return normals(alg, d, self.slider.direction, alg.sqrt(dot(d, d)))
+        return normals(alg, d, self.slider.direction, alg.norm(d))
 
     def rows(self, alg, X, X0) -> list[Row]:
         one = alg.const(1)
@@ -43,7 +43,8 @@ class SliderLine(Constraint):
         ns = self._normals(alg)
         out = []
         for k, (n, nn) in enumerate(ns):
-            off = alg.param(f"offset slider {self.slider.id}" + (f" [{k}]" if len(ns) > 1 else ""), dot(n, point))
+            off = alg.param(f"offset slider {self.slider.id}" + (f" [{k}]" if len(ns) > 1 else ""),
+                            alg.inner(n, point))
             out.append(Equation(dot(n, X[self.p]) - off, nn))
         return out
 
@@ -51,4 +52,4 @@ class SliderLine(Constraint):
         """The slide of the node along the line, from the slider's point (model units)."""
         d = self._vector(alg, "direction", self.slider.direction)
         point = self._vector(alg, "point", self.slider.point)
-        return dot(sub(X[self.p], point), d) / alg.sqrt(dot(d, d))
+        return dot(sub(X[self.p], point), d) / alg.norm(d)

@@ -31,21 +31,27 @@ class SliderMovingLine(Constraint):
     def rows(self, alg, X, X0) -> list[Row]:
         s = self.slider
         e = sub(X[self.c], X[self.a])
-        length = alg.pair_length(s.link, s.line[0], s.line[1], e)
-        l2 = length * length
-        tau = dot(sub(X[self.p], X[self.a]), e)
-        out = []
-        for n, nn in normals(alg, e, sub(X0[self.c], X0[self.a]), length):
-            out.append(Row(((self.p, l2, n), (self.a, -(l2 - tau), n), (self.c, -tau, n)), l2 * nn))
-        return out
+        r = sub(X[self.p], X[self.a])
+        e0 = sub(X0[self.c], X0[self.a])
+        if alg.exact:  # polynomial blocks over the pair's length (a design symbol in the symbolic rows)
+            length = alg.pair_length(s.link, s.line[0], s.line[1], e)
+            l2 = length * length
+            tau = dot(r, e)
+            return [Row(((self.p, l2, n), (self.a, -(l2 - tau), n), (self.c, -tau, n)), l2 * nn)
+                    for n, nn in normals(alg, e, e0, length)]
+        # numeric: the same row as unit normals and t = (x_P − x_A)·u/|e| (the core's rounding)
+        length = alg.norm(e)
+        t = alg.inner(r, tuple(c / length for c in e)) / length
+        one = alg.const(1)
+        return [Row(((self.p, one, n), (self.a, -(one - t), n), (self.c, -t, n)), nn)
+                for n, nn in normals(alg, e, e0, length)]
 
     def equations(self, alg, X, X0) -> list[Equation]:
         e = sub(X[self.c], X[self.a])
         r = sub(X[self.p], X[self.a])
-        return [Equation(dot(n, r), nn)
-                for n, nn in normals(alg, e, sub(X0[self.c], X0[self.a]), alg.sqrt(dot(e, e)))]
+        return [Equation(dot(n, r), nn) for n, nn in normals(alg, e, sub(X0[self.c], X0[self.a]), alg.norm(e))]
 
     def slide(self, alg, X):
         """The slide of P along the line from A (model units)."""
         e = sub(X[self.c], X[self.a])
-        return dot(sub(X[self.p], X[self.a]), e) / alg.sqrt(dot(e, e))
+        return dot(sub(X[self.p], X[self.a]), e) / alg.norm(e)

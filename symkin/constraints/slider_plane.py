@@ -28,12 +28,18 @@ class SliderPlane(Constraint):
         what = f"{which} of slider {self.slider.id}"
         return alg.point(values, what) if which == "point" else alg.direction(values, what)
 
-    def rows(self, alg, X, X0) -> list[Row]:
+    def _normal(self, alg):
+        """``(n, |n|)``: the normal as given (exact algebras) or normalised (numeric ones)."""
         n = self._vector(alg, "normal", self.slider.normal)
-        return [Row(((self.p, alg.const(1), n),), alg.sqrt(dot(n, n)))]
+        length = alg.norm(n)
+        return (n, length) if alg.exact else (tuple(c / length for c in n), alg.const(1))
+
+    def rows(self, alg, X, X0) -> list[Row]:
+        n, nn = self._normal(alg)
+        return [Row(((self.p, alg.const(1), n),), nn)]
 
     def equations(self, alg, X, X0) -> list[Equation]:
-        n = self._vector(alg, "normal", self.slider.normal)
+        n, nn = self._normal(alg)
         point = self._vector(alg, "point", self.slider.point)
-        off = alg.param(f"offset slider {self.slider.id}", dot(n, point))
-        return [Equation(dot(n, X[self.p]) - off, alg.sqrt(dot(n, n)))]
+        off = alg.param(f"offset slider {self.slider.id}", alg.inner(n, point))
+        return [Equation(dot(n, X[self.p]) - off, nn)]

@@ -91,17 +91,9 @@ def _inv3_sym(m: ca.SX) -> ca.SX:
 
 
 def _normal_basis(u: ca.SX) -> list[ca.SX]:
-    """SX version of :func:`symkin.numeric.linalg.normal_basis` (same choice of axis)."""
-    if u.numel() == 2:
-        return [ca.vertcat(-u[1], u[0])]
-    a0, a1, a2 = ca.fabs(u[0]), ca.fabs(u[1]), ca.fabs(u[2])
-    pick0 = ca.logic_and(a0 <= a1, a0 <= a2)           # np.argmin: first minimum
-    pick1 = ca.logic_and(ca.logic_not(pick0), a1 <= a2)
-    pick2 = ca.logic_not(ca.logic_or(pick0, pick1))
-    axis = ca.vertcat(pick0, pick1, pick2)
-    n1 = axis - _dot(axis, u) * u
-    n1 = n1 / _norm(n1)
-    return [n1, _cross(u, n1)]
+    """SX version of :func:`symkin.numeric.linalg.normal_basis` (same choice of axis): the
+    constraints' :meth:`symkin.constraints.algebra.Casadi.unit_normals`."""
+    return [ca.vertcat(*n) for n in Casadi().unit_normals(tuple(u[k] for k in range(u.numel())))]
 
 
 # ---------------------------------------------------------------------- the model

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import polynomial_constraints, slider_constraints
+from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism
@@ -335,7 +335,7 @@ def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> No
         elif p.kind == "slide":
             s = mech.slider(p.target[0])
             x = b.node(s.node)
-            if s.kind == "moving_line":
+            if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
                 a, cc = b.node(s.line[0]), b.node(s.line[1])
                 u0 = b.model(s.line[1]) - b.model(s.line[0])
                 along0 = float((b.model(s.node) - b.model(s.line[0])) @ u0 / np.linalg.norm(u0))
@@ -355,9 +355,10 @@ def _legs(b: SystemBuilder, prescribed) -> list[tuple]:
     fixed = set(mech.fixed)
     slides = {c.parameter.target[0]: (c, v) for c, v in prescribed if c.parameter.kind == "slide"}
     out = []
-    for s in mech.sliders:
-        if s.kind != "moving_line":
+    for con in slider_constraints(mech):
+        if not isinstance(con, SliderMovingLine):
             continue
+        s = con.slider
         hit = slides.get(s.id) or slides.get(s.node)
         if hit is None or mech.slider(hit[0].parameter.target[0]).id != s.id:
             continue

@@ -67,7 +67,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import polynomial_constraints, slider_constraints
+from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.kinds import LOCUS_KINDS, Kind
@@ -435,7 +435,7 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
         return [(e[0] * (1 + t ** 2) - ll * (1 - t ** 2), owner), (e[1] * (1 + t ** 2) - 2 * ll * t, owner)]
     if p.kind == "slide":
         s = mech.slider(p.target[0])
-        if s.kind == "moving_line":
+        if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
             a, b = s.line
             e = _sub(sys.coord[b], sys.coord[a])
             e0 = _sub(sys.x0[b], sys.x0[a])
@@ -476,8 +476,9 @@ def _to_nodal(expr: sp.Expr, sm, sys: _System) -> sp.Expr:
             th = sm.symbol(f"theta_{name}")
             subs[sp.cos(th)] = e[0] / ll
             subs[sp.sin(th)] = e[1] / ll
-        for s in mech.sliders:
-            if s.kind == "moving_line":
+        for con in slider_constraints(mech):
+            if isinstance(con, SliderMovingLine):
+                s = con.slider
                 a, b = s.line
                 e = _sub(sys.coord[b], sys.coord[a])
                 e0 = _sub(sys.x0[b], sys.x0[a])
