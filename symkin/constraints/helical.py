@@ -27,7 +27,10 @@ runner's, ``s₀, θ₀`` their values at the model's configuration and ``Δ = (
 the node positions (which know ``θ`` only modulo 2π) close on one thread of the helix,
 every turn of it, and the gradient on the helix is the row.  It is smooth except half a
 lead away from the helix (``Δ = π``), which a path corrector started on the helix does
-not reach.  ``p = 0``: the residual is ``s − s₀`` (a revolute pair).  The polynomial
+not reach.  ``p = 0``: the residual is ``s − s₀`` (a revolute pair).  A path of more than
+a full turn: the tracer ends a path as closed when it comes back within two steps of its
+start, and one lead ``2π|p|`` may be shorter than that, so a path of a small-pitch screw
+stops after one turn (:mod:`symkin.paths.trace`; the configurations up to there are right).  The polynomial
 backends (``modes``, ``singularities``, the exact and the locus eliminations) refuse a
 model with an H: :func:`symkin.constraints.polynomial_constraints`.
 """
