@@ -73,9 +73,14 @@ def constraints_of(mech) -> tuple[Constraint, ...]:
     return _of_model(mech.topology)
 
 
+@lru_cache(maxsize=128)
+def _after_links(topology) -> tuple:
+    return tuple(c for c in _of_model(topology) if not isinstance(c, (Bar, Body)))
+
+
 def slider_constraints(mech) -> tuple[Constraint, ...]:
-    """The constraints after the links' (sliders, helical pairs), in order."""
-    return tuple(c for c in constraints_of(mech) if not isinstance(c, (Bar, Body)))
+    """The constraints after the links' (sliders, helical pairs), in order (cached per topology)."""
+    return _after_links(mech.topology)
 
 
 def slider_constraint(mech, ref: str) -> Constraint:
