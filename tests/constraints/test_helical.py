@@ -220,3 +220,17 @@ def test_pitch_on_another_joint_and_h_in_the_plane_are_model_errors():
               "joints": [{"id": "H1", "type": "H", "links": ["ground", "a"], "at": [0, 0], "pitch": 0.1}]}
     with pytest.raises(ModelError, match=r"H1.*not allowed in a planar model"):
         symkin.Mechanism.from_dict(planar)
+
+
+@pytest.mark.parametrize("command", [["singularities"], ["modes", "--at", "joint:R1=10"]])
+def test_cli_refuses_the_global_solve_naming_the_joint(command):
+    """``modes`` and ``singularities`` need polynomial equations: exit 2, the joint named, no traceback."""
+    import os
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-m", "symkin", *command, str(MODELS / "screw_jack.toml")],
+                         capture_output=True, text=True, timeout=300, env=dict(os.environ))
+    assert run.returncode == 2
+    assert "joints (H1)" in run.stderr and "not polynomial" in run.stderr
+    assert "Traceback" not in run.stderr
