@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "symkin"
-# stage order: model → curves (mechanism-free numerics) → (symbolic | numeric) → analysis → paths → workspace → plots/report → commands/cli
-STAGE = {"startup": 0, "errors": 0, "tolerances": 0, "kinds": 0, "model": 1, "catalogue": 1, "curves": 1.5, "symbolic": 2, "numeric": 2,
+# stage order: model → constraints (one definition per constraint kind) → curves (mechanism-free numerics) → (symbolic | numeric) → analysis → paths → workspace → plots/report → commands/cli
+STAGE = {"startup": 0, "errors": 0, "tolerances": 0, "kinds": 0, "model": 1, "catalogue": 1, "constraints": 1.2, "curves": 1.5, "symbolic": 2, "numeric": 2,
          "analysis": 3, "paths": 4, "solutions": 4, "workspace": 5, "plots": 6, "report": 6, "reproduce": 6,
          "commands": 7, "cli": 7, "__main__": 8}
 FORBIDDEN_IN_MODEL = {"sympy", "casadi", "matplotlib", "numpy", "scipy"}

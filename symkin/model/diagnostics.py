@@ -34,14 +34,14 @@ def topology_warnings(mech: Mechanism) -> tuple[str, ...]:
     >>> print(topology_warnings(Mechanism.from_dict(d))[0])
     Links coupler and tie join the same nodes (B, C): the same bar is listed twice (it carries a self-stress).
     """
-    sliders = tuple((s.node, s.kind, s.line) for s in mech.sliders)
+    sliders = tuple((s.node, s.carriers) for s in mech.sliders)
     return _topology_warnings(mech.node_names, mech.links, mech.fixed, sliders)
 
 
 @lru_cache(maxsize=1024)
 def _topology_warnings(node_names, links, fixed, sliders) -> tuple[str, ...]:
     out = []
-    grounded_by_slider = {node for node, kind, _ in sliders if kind != "moving_line"}
+    grounded_by_slider = {node for node, carriers in sliders if not carriers}
     if not fixed:
         where = (f"; only the sliders on fixed lines or planes ({_names(sorted(grounded_by_slider))}) hold it"
                  if grounded_by_slider else "")
@@ -69,10 +69,9 @@ def _floating_parts(node_names, links, fixed, grounded, sliders) -> list[str]:
     for _, ns in links:
         for n in ns[1:]:
             join(ns[0], n)
-    for node, kind, line in sliders:
-        if kind == "moving_line":
-            join(node, line[0])
-            join(node, line[1])
+    for node, carriers in sliders:
+        for other in carriers:
+            join(node, other)
     parts: dict[str, list[str]] = {}
     for n in node_names:
         parts.setdefault(find(n), []).append(n)

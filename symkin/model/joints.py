@@ -2,7 +2,7 @@
 
 A model may describe a mechanism by its pairs (``[[joints]]``, README "Model files"): each
 joint joins two links (``"ground"`` is the fixed frame) at a point ``at``, with an ``axis``
-(R, P, C in space; P in the plane) and, for U, a second axis ``axis2``.  The nodal method
+(R, P, C, H in space; P in the plane), for U a second axis ``axis2`` and for H its ``pitch``.  The nodal method
 of the paper expresses every one of them with what it already has (Altuzarra et al. 2004,
 §II: shared nodes, bars, bodies; the README's sliders):
 
@@ -21,6 +21,9 @@ C (3D)  the second link (the runner) gets two nodes on the joint's line, ``C1`` 
         ``C1.base`` (at ``at``) and ``C1.line`` (at ``at + ℓ·axis``) of the first link (the
         guide); with ground as a link, sliders on the fixed line
 P (2D)  as C: in the plane two nodes on a line leave only the slide
+H (3D)  as C, plus an arm node ``H1.arm`` of the runner off the axis (and ``H1.guide`` of a
+        moving guide) and the screw constraint (:class:`~symkin.model.mechanism.Helical`, its
+        row in :mod:`symkin.constraints.helical`): slide = ``pitch`` × relative rotation
 P (3D)  as C, plus the key that stops the rotation about the line when neither link is a
         rod along the line (a rod's spin about its own line is no coordinate of the nodal
         method): ``P1.keyed`` of the runner slides on the line ``P1.key``-``P1.keyline`` of
@@ -38,7 +41,7 @@ nodes) must be joined on its line (else it would be a body).
 Joint rates are expressed as the existing kinematic parameters (:class:`Parameter`),
 labelled ``joint:<id>``: a planar R between two moving links is the planar ``joint``
 parameter (ω₂ − ω₁), a joint to ground the rotation of the moving link (about ``axis`` in
-space; about ``-axis`` when ground is the second link), P and the slide of C the slide of
+space; about ``-axis`` when ground is the second link; so is an H with ground as a link), P and the slide of C the slide of
 the slider ``<id>`` (relative slide of the second link along ``axis``).  The rotation rate of
 a spatial joint between two moving links has no existing parameter yet: asking for it is a
 model error naming the joint.
@@ -55,12 +58,12 @@ from symkin.model.mechanism import Parameter, length_scale
 __all__ = ["Joint", "CompiledJoints", "Limits", "JOINT_TYPES", "JOINT_KEYS", "GROUND", "compile_joints"]
 
 #: the joint types allowed in a planar (2) and a spatial (3) model
-JOINT_TYPES = {2: ("R", "P"), 3: ("R", "P", "C", "U", "S")}
-JOINT_KEYS = ("id", "type", "links", "at", "axis", "axis2")
+JOINT_TYPES = {2: ("R", "P"), 3: ("R", "P", "C", "U", "S", "H")}
+JOINT_KEYS = ("id", "type", "links", "at", "axis", "axis2", "pitch")
 #: the name of the fixed frame in a joint's ``links``
 GROUND = "ground"
 #: the types that need an ``axis`` (by dimension)
-_NEEDS_AXIS = {2: ("P",), 3: ("R", "P", "C", "U")}
+_NEEDS_AXIS = {2: ("P",), 3: ("R", "P", "C", "U", "H")}
 
 
 @dataclass(frozen=True)
@@ -73,6 +76,8 @@ class Joint:
     at: tuple[float, ...]
     axis: tuple[float, ...] | None = None
     axis2: tuple[float, ...] | None = None
+    #: H only: the advance per radian (model units; negative: a left-handed screw)
+    pitch: float | None = None
 
     def to_dict(self) -> dict:
         out: dict = {"id": self.id, "type": self.type, "links": list(self.links), "at": list(self.at)}
@@ -80,6 +85,8 @@ class Joint:
             out["axis"] = list(self.axis)
         if self.axis2 is not None:
             out["axis2"] = list(self.axis2)
+        if self.pitch is not None:
+            out["pitch"] = self.pitch
         return out
 
 
@@ -166,12 +173,8 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limi
     if extra:
         bad(f"unknown key(s) {', '.join(map(repr, extra))} (allowed: {', '.join(JOINT_KEYS)})", where)
     allowed = JOINT_TYPES[dim]
-    if jtype not in JOINT_TYPES[3] + ("H",):
+    if jtype not in JOINT_TYPES[3]:
         bad(f"type must be one of {', '.join(allowed)} (dim = {dim}), got {jtype!r}", where)
-        return None
-    if jtype == "H":
-        bad("the helical pair H is not available yet: its rotation tied to its slide is a constraint "
-            "row that shared nodes and sliders cannot express", where)
         return None
     if jtype not in allowed:
         what = "planar" if dim == 2 else "spatial"
@@ -222,10 +225,21 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limi
             axes.append(None)
             continue
         axes.append(_unit(tuple(float(v) for v in value)))
+    pitch = item.get("pitch")
+    if jtype == "H":
+        if pitch is None:
+            bad("a helical joint H needs 'pitch' (the advance per radian, in model length units)", where)
+            ok = False
+        elif not limits.number(pitch):
+            bad(f"pitch must be a finite number (advance per radian, model length units), got {pitch!r}", where)
+            ok = False
+    elif pitch is not None:
+        bad(f"'pitch' goes with a helical joint H, not with a {jtype} joint", where)
+        ok = False
     if not ok:
         return None
     return Joint(id=jid, type=jtype, links=(pair[0], pair[1]), at=tuple(float(v) for v in at),
-                 axis=axes[0], axis2=axes[1])
+                 axis=axes[0], axis2=axes[1], pitch=float(pitch) if jtype == "H" else None)
 
 
 class _Builder:
@@ -237,6 +251,7 @@ class _Builder:
         self.given = {n: tuple(ns) for n, ns in self.links.items() if ns}  # links listed with their nodes
         self.fixed = list(data.get("fixed", []))
         self.sliders: list[dict] = []
+        self.helicals: list[dict] = []
         self.reach, self.tol, self.problems = reach, tol, problems
 
     def near(self, names, point):
@@ -316,6 +331,32 @@ class _Builder:
                 return
             self.sliders.append({"id": name, "node": node, **way})
 
+    def helical(self, joint: Joint) -> None:
+        """An H: the C of :meth:`line`, an arm node on the runner (and on a moving guide), the screw row."""
+        self.line(joint)
+        guide, runner = joint.links
+        sign = 1.0
+        if runner == GROUND:
+            guide, runner, sign = runner, guide, -1.0
+        u, at, jid = joint.axis, joint.at, joint.id
+        n = _normal(u)
+        node = self.shared(joint, [runner], at, jid)
+        arm = self.shared(joint, [runner], _plus(at, n, self.reach), f"{jid}.arm")
+        if node is None or arm is None:
+            return
+        out = {"id": jid, "node": node, "arm": arm, "pitch": joint.pitch}
+        if guide == GROUND:
+            out.update(point=list(at), direction=[sign * c for c in u])
+        else:
+            base = self.shared(joint, [guide], at, f"{jid}.base")
+            tip = self.shared(joint, [guide], _plus(at, u, self.reach), f"{jid}.line")
+            w = (u[1] * n[2] - u[2] * n[1], u[2] * n[0] - u[0] * n[2], u[0] * n[1] - u[1] * n[0])
+            garm = self.shared(joint, [guide], _plus(at, w, self.reach), f"{jid}.guide")
+            if base is None or tip is None or garm is None:
+                return
+            out.update(line=[base, tip], link=guide, guide_arm=garm)
+        self.helicals.append(out)
+
     def along(self, link: str, at, u) -> bool:
         """Every node of ``link`` on the line through ``at`` along ``u`` (a rod on that line)."""
         return all(self.along_line(self.nodes[n], at, u) for n in self.links[link])
@@ -324,7 +365,7 @@ class _Builder:
 def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list) -> Parameter | None:
     """The rate ``motion`` ("rotation" or "slide"; U: "1", "2") of ``joint`` as an existing parameter."""
     first, second = joint.links
-    label = f"joint:{joint.id}" if joint.type in ("R", "P") else f"joint:{joint.id}.{motion}"
+    label = f"joint:{joint.id}" if joint.type in ("R", "P", "H") else f"joint:{joint.id}.{motion}"
     if motion == "slide":
         return Parameter("slide", (joint.id,), label=label)
     if dim == 2:
@@ -355,7 +396,7 @@ def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list) -> Pa
 
 def _motions(joint: Joint) -> tuple[str, ...]:
     """The rates a joint has: "rotation", "slide", or "1", "2" for U (S has none by joint)."""
-    if joint.type == "R":
+    if joint.type in ("R", "H"):
         return ("rotation",)
     if joint.type == "P":
         return ("slide",)
@@ -486,6 +527,8 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
             if b.shared(j, [pair[0], cross, pair[1]], j.at, j.id) is not None:
                 b.shared(j, [pair[0], cross], _plus(j.at, j.axis, reach), f"{j.id}.axis")
                 b.shared(j, [cross, pair[1]], _plus(j.at, j.axis2, reach), f"{j.id}.axis2")
+        elif j.type == "H":
+            b.helical(j)
         else:  # P, C: the key of a spatial P is decided once every joint has placed its nodes
             b.line(j)
     for j in joints:
@@ -518,6 +561,8 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
     out["fixed"] = b.fixed
     sliders = data.get("sliders", [])
     out["sliders"] = list(sliders) + b.sliders if isinstance(sliders, (list, tuple)) else sliders
+    if b.helicals:
+        out["helicals"] = b.helicals
     return CompiledJoints(out, tuple(joints), tuple(rates), tuple(problems))
 
 

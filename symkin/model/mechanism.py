@@ -18,7 +18,7 @@ from typing import Iterable, Mapping
 
 from symkin.errors import ModelError, Problem
 
-__all__ = ["Slider", "Parameter", "ParameterList", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
+__all__ = ["Slider", "Helical", "Parameter", "ParameterList", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
 
 AXES = ("x", "y", "z")
 #: component names of a twist (velocity of the link's first node, then angular velocity)
@@ -47,12 +47,21 @@ class Slider:
 
     @property
     def kind(self) -> str:
-        """``"line"`` (fixed line), ``"moving_line"`` or ``"plane"``."""
+        """``"line"`` (fixed line), ``"moving_line"`` or ``"plane"``: the name of its form.
+
+        The stages do not dispatch on it: the constraint registry
+        (:func:`symkin.constraints.constraints_of`) maps each form to its definition.
+        """
         if self.line is not None:
             return "moving_line"
         if self.normal is not None:
             return "plane"
         return "line"
+
+    @property
+    def carriers(self) -> tuple[str, ...]:
+        """The nodes of the moving line it slides on; ``()`` when the fixed frame holds it."""
+        return self.line or ()
 
     def to_dict(self) -> dict:
         out: dict = {"id": self.id, "node": self.node}
@@ -63,6 +72,37 @@ class Slider:
         if self.line is not None:
             out["line"] = list(self.line)
             out["link"] = self.link
+        return out
+
+
+@dataclass(frozen=True)
+class Helical:
+    """The screw constraint of a helical pair H (compiled from a joint, :mod:`symkin.model.joints`).
+
+    The runner's node ``node`` on the axis and its arm node ``arm`` off the axis turn and
+    slide together: slide = ``pitch`` × relative rotation (``pitch`` in model units per
+    radian).  The guide is a link, with the nodes ``line = (base, tip)`` on the axis and
+    the arm node ``guide_arm``, or ground, with the fixed axis ``point`` + ``direction``.
+    The cylindrical pair under it is made of sliders; :mod:`symkin.constraints.helical`
+    states the row.
+    """
+
+    id: str
+    node: str
+    arm: str
+    pitch: float
+    line: tuple[str, str] | None = None
+    link: str | None = None
+    guide_arm: str | None = None
+    point: tuple[float, ...] | None = None
+    direction: tuple[float, ...] | None = None
+
+    def to_dict(self) -> dict:
+        out: dict = {"id": self.id, "node": self.node, "arm": self.arm, "pitch": self.pitch}
+        for key in ("line", "link", "guide_arm", "point", "direction"):
+            value = getattr(self, key)
+            if value is not None:
+                out[key] = list(value) if isinstance(value, tuple) else value
         return out
 
 
@@ -288,6 +328,8 @@ class Mechanism:
     joints: tuple = field(default=(), compare=False)
     #: ``(label, Parameter)`` of every joint rate an existing parameter expresses (``joint:R1``)
     joint_rates: tuple = field(default=(), compare=False)
+    #: the screw constraints of helical pairs (compiled from H joints)
+    helicals: tuple[Helical, ...] = ()
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -314,6 +356,8 @@ class Mechanism:
         out["links"] = {name: list(ns) for name, ns in self.links}
         if self.sliders:
             out["sliders"] = [s.to_dict() for s in self.sliders]
+        if self.helicals:
+            out["helicals"] = [h.to_dict() for h in self.helicals]
         return out
 
     def with_coordinates(self, coords: Mapping[str, Iterable[float]] | Iterable) -> "Mechanism":
@@ -376,19 +420,27 @@ class Mechanism:
                 return replace(p, axis=turn(p.axis))
             return p
 
+        helicals = tuple(replace(h, pitch=scale * h.pitch,
+                                 point=place(h.point) if h.point is not None else None,
+                                 direction=turn(h.direction) if h.direction is not None else None)
+                         for h in self.helicals)
         return replace(self, nodes=tuple((n, place(x)) for n, x in self.nodes), sliders=sliders,
+                       helicals=helicals,
                        inputs=tuple(param(p) for p in self.inputs),
                        outputs=tuple(param(p) for p in self.outputs),
                        joint_rates=tuple((lab, param(p)) for lab, p in self.joint_rates),
                        joints=tuple(replace(j, at=place(j.at), axis=j.axis and turn(j.axis),
-                                            axis2=j.axis2 and turn(j.axis2)) for j in self.joints))
+                                            axis2=j.axis2 and turn(j.axis2),
+                                            **({"pitch": scale * j.pitch} if getattr(j, "pitch", None) is not None
+                                               else {})) for j in self.joints))
 
     # ------------------------------------------------------------------ queries
     @cached_property
     def topology(self) -> Topology:
         """The mechanism without its coordinates (see :class:`Topology`)."""
         return Topology((self.dim, self.node_names, self.links, self.fixed, self.sliders,
-                         self.inputs, self.outputs, self.mobility, self.platform, self.platform_dof))
+                         self.inputs, self.outputs, self.mobility, self.platform, self.platform_dof)
+                        + ((self.helicals,) if self.helicals else ()))
 
     @cached_property
     def node_names(self) -> tuple[str, ...]:

@@ -14,14 +14,14 @@ from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
 from symkin.model.joints import Limits, compile_joints
-from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider, length_scale
+from symkin.model.mechanism import AXES, Helical, Mechanism, Parameter, Slider, length_scale
 from symkin.tolerances import DEFAULT
 
 __all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS", "COORDINATE_LIMIT",
            "MIN_LENGTH"]
 
 TOP_LEVEL_KEYS = ("name", "description", "dim", "fixed", "mobility", "inputs", "outputs",
-                  "platform", "platform_dof", "nodes", "links", "sliders", "joints")
+                  "platform", "platform_dof", "nodes", "links", "sliders", "joints", "helicals")
 PARAMETER_KINDS = ("rotation", "slide", "velocity", "twist", "joint")
 PARAMETER_KEYS = PARAMETER_KINDS + ("axis", "component", "label")
 SLIDER_KEYS = ("id", "node", "point", "direction", "normal", "line", "link")
@@ -187,6 +187,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
         out.add("fixed", f"every node is fixed ({len(nodes)} nodes): nothing can move")
     sliders = _parse_sliders(data.get("sliders", []), dim, nodes, links, set(fixed), scale,
                              tolerances.geometry, out)
+    helicals = _parse_helicals(data.get("helicals", []), dim, nodes, links, out)
     link_set = set(links)
     fixed_set = set(fixed)
     ground = {l for l, ns in links.items() if all(n in fixed_set for n in ns)}
@@ -220,7 +221,8 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     return Mechanism(name=name, dim=dim, nodes=tuple(nodes.items()), links=tuple(links.items()),
                      fixed=fixed, sliders=tuple(sliders), inputs=tuple(inputs), outputs=tuple(outputs),
                      mobility=mobility, platform=platform, platform_dof=platform_dof,
-                     description=description, joints=joints, joint_rates=joint_rates)
+                     description=description, joints=joints, joint_rates=joint_rates,
+                     helicals=tuple(helicals))
 
 
 # ---------------------------------------------------------------------- parts
@@ -412,6 +414,45 @@ def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, o
     return sliders
 
 
+HELICAL_KEYS = ("id", "node", "arm", "pitch", "line", "link", "guide_arm", "point", "direction")
+
+
+def _parse_helicals(items: Any, dim, nodes, links, out: _Collector) -> list[Helical]:
+    """The screw constraints of H joints (written by :mod:`symkin.model.joints`; see :class:`Helical`)."""
+    if not isinstance(items, (list, tuple)):
+        out.add("helicals", "must be a list of tables")
+        return []
+    found = []
+    for k, item in enumerate(items):
+        key = f"helicals[{k}]"
+        if not isinstance(item, Mapping):
+            out.add(key, "must be a table")
+            continue
+        _unknown_keys(item, HELICAL_KEYS, key, out)
+        if dim != 3:
+            out.add(key, "a helical pair is spatial (dim = 3)")
+            continue
+        names = [item.get("node"), item.get("arm")] + list(item.get("line") or []) + \
+            ([item["guide_arm"]] if "guide_arm" in item else [])
+        bad = [n for n in names if not isinstance(n, str) or n not in nodes]
+        pitch = item.get("pitch")
+        if bad or not isinstance(item.get("id"), str) or not _is_number(pitch):
+            out.add(key, f"needs id, pitch (a number) and nodes of the model (unknown: {_short(bad)})")
+            continue
+        moving = "line" in item
+        if moving and (item.get("link") not in links or "guide_arm" not in item or len(item["line"]) != 2):
+            out.add(key, "a moving guide needs line (two nodes), link and guide_arm")
+            continue
+        point = None if moving else _vector(item.get("point"), dim, key, out, "point")
+        direction = None if moving else _direction(item.get("direction"), dim, key, out, "direction")
+        if not moving and (point is None or direction is None):
+            continue
+        found.append(Helical(id=item["id"], node=item["node"], arm=item["arm"], pitch=float(pitch),
+                             line=tuple(item["line"]) if moving else None, link=item.get("link"),
+                             guide_arm=item.get("guide_arm"), point=point, direction=direction))
+    return found
+
+
 def _fixed_slider(item, sid, node, p, dim, scale, tol, key, out) -> Slider | None:
     point = _vector(item.get("point"), dim, key, out, "point")
     if ("direction" in item) == ("normal" in item):
@@ -564,7 +605,7 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
         if len(matches) > 1:
             out.add(key, f"node {value} has {len(matches)} sliders: name one by its id")
             return None
-        if matches[0].kind == "plane":
+        if matches[0].direction is None and not matches[0].carriers:  # a plane
             out.add(key, f"slider {value} is on a plane: its rate has two components; "
                          "use velocity components instead")
             return None

@@ -10,7 +10,11 @@ enter as constants taken from the model.  Every row is the same dimensionless ro
 * degenerate rigid body (collinear nodes; coplanar nodes in 3D): ``n·(ẋ_m - Σ c_k ẋ_k)``
   for each normal ``n`` of the affine hull and each node ``m`` off the frame;
 * slider on a fixed line / plane: ``n·ẋ_P``; on the moving line A-C:
-  ``n·(ẋ_P - (1-t) ẋ_A - t ẋ_C)``.
+  ``n·(ẋ_P - (1-t) ẋ_A - t ẋ_C)``; the screw row of a helical pair.
+
+Bars, sliders and helical pairs are their definitions of :mod:`symkin.constraints`
+evaluated in SX (rows and closure equations alike); the degenerate bodies' rows are
+written here.
 
 Discrete choices the core makes at every configuration (the node of a link farthest
 from its first node, the coordinate axis least aligned with a line) are reproduced with
@@ -39,6 +43,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from symkin.constraints import Body, constraints_of
+from symkin.constraints.algebra import Casadi
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.geometric_matrix import affine_frame, coordinate_labels, free_mask
 from symkin.numeric.linalg import affine_hull
@@ -85,23 +91,9 @@ def _inv3_sym(m: ca.SX) -> ca.SX:
 
 
 def _normal_basis(u: ca.SX) -> list[ca.SX]:
-    """SX version of :func:`symkin.numeric.linalg.normal_basis` (same choice of axis)."""
-    if u.numel() == 2:
-        return [ca.vertcat(-u[1], u[0])]
-    a0, a1, a2 = ca.fabs(u[0]), ca.fabs(u[1]), ca.fabs(u[2])
-    pick0 = ca.logic_and(a0 <= a1, a0 <= a2)           # np.argmin: first minimum
-    pick1 = ca.logic_and(ca.logic_not(pick0), a1 <= a2)
-    pick2 = ca.logic_not(ca.logic_or(pick0, pick1))
-    axis = ca.vertcat(pick0, pick1, pick2)
-    n1 = axis - _dot(axis, u) * u
-    n1 = n1 / _norm(n1)
-    return [n1, _cross(u, n1)]
-
-
-def _const_normal_basis(u: np.ndarray) -> np.ndarray:
-    from symkin.numeric.linalg import normal_basis
-
-    return normal_basis(u)
+    """SX version of :func:`symkin.numeric.linalg.normal_basis` (same choice of axis): the
+    constraints' :meth:`symkin.constraints.algebra.Casadi.unit_normals`."""
+    return [ca.vertcat(*n) for n in Casadi().unit_normals(tuple(u[k] for k in range(u.numel())))]
 
 
 # ---------------------------------------------------------------------- the model
@@ -220,52 +212,24 @@ class _Builder:
             cols[i] = cols[i] + ca.reshape(v, 1, d)
         return ca.horzcat(*cols)
 
-    # -- constraint rows (mirrors geometric_matrix._constraint_rows_cached)
+    # -- constraint rows: the definitions of symkin.constraints evaluated in SX
     def constraints(self):
         rows, owners, closure = [], [], []
-        mech, index = self.mech, self.index
-        for name, ns in mech.links:
-            idx = [index[n] for n in ns]
-            for a in range(len(idx)):
-                for b in range(a + 1, len(idx)):
-                    i, j = idx[a], idx[b]
-                    d = self.node(j) - self.node(i)
-                    ln = _norm(d)
-                    u = d / ln
-                    rows.append(self.row({i: u, j: -u}))
-                    owners.append(f"link {name} ({ns[a]}-{ns[b]})")
-                    length0 = float(np.linalg.norm(self.xyz0[j] - self.xyz0[i]))
-                    big_l = self.param(f"length {name} ({ns[a]}-{ns[b]})", length0)
-                    closure.append((big_l * big_l - _dot(d, d)) / (2 * big_l))
-            if len(idx) >= 3:
-                r, c = self.body_extra(name, ns, idx)
+        alg = Casadi(self.param)
+        dim = self.dim
+        X = [tuple(self.x[dim * i + a] for a in range(dim)) for i in range(len(self.mech.nodes))]
+        X0 = [tuple(map(float, c)) for c in self.xyz0]
+        for con in constraints_of(self.mech):
+            if isinstance(con, Body):
+                r, c = self.body_extra(con.link, con.names, list(con.idx))
                 rows += r
                 closure += c
-                owners += [f"link {name} (rigidity out of its hull)"] * len(r)
-        for s in mech.sliders:
-            p = index[s.node]
-            if s.kind == "moving_line":
-                a, c = index[s.line[0]], index[s.line[1]]
-                e = self.node(c) - self.node(a)
-                le = _norm(e)
-                u = e / le
-                t = _dot(self.node(p) - self.node(a), u) / le
-                for n in _normal_basis(u):
-                    rows.append(self.row({p: n, a: -(1 - t) * n, c: -t * n}))
-                    owners.append(f"slider {s.id}")
-                    closure.append(_dot(n, self.node(p) - self.node(a)))
-            else:
-                vec = np.array(s.direction if s.kind == "line" else s.normal, dtype=float)
-                u = vec / np.linalg.norm(vec)
-                normals = _const_normal_basis(u) if s.kind != "plane" else u[None, :]
-                point = np.array(s.point, dtype=float)
-                for k, n in enumerate(normals):
-                    nsx = ca.SX(ca.DM(n))
-                    rows.append(self.row({p: nsx}))
-                    owners.append(f"slider {s.id}")
-                    off = self.param(f"offset slider {s.id}" + (f" [{k}]" if len(normals) > 1 else ""),
-                                     float(n @ point))
-                    closure.append(_dot(nsx, self.node(p)) - off)
+                owners += [con.owner] * len(r)
+                continue
+            for r in con.rows(alg, X, X0):  # divided by the scale (not times its inverse): the core's rounding
+                rows.append(self.row({k: ca.vertcat(*[v / r.scale for v in vec]) for k, vec in r.blocks().items()}))
+                owners.append(con.owner)
+            closure += [eq.numerator / eq.denominator for eq in con.equations(alg, X, X0)]
         j = ca.vertcat(*rows) if rows else ca.SX(0, self.D)
         phi = ca.vertcat(*closure) if closure else ca.SX(0, 1)
         return j, tuple(owners), phi

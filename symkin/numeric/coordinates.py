@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from symkin.constraints import slider_constraint
+from symkin.constraints.algebra import FLOATS, Casadi
 from symkin.errors import SymkinError
 from symkin.model.labels import CoordinateLabel, accepted_labels, parse_label
 from symkin.model.labels import driving_labels
@@ -120,18 +122,12 @@ def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
         i = mech.node_index()[p.target[0]]
         axis = AXES.index(p.component) if p.component else c.component
         return x[dim * i + axis] - x0[i, axis]
-    if p.kind == "slide":
-        s = mech.slider(p.target[0])
-        idx = mech.node_index()
-        k = idx[s.node]
-        if s.kind == "moving_line":
-            a_, c_ = idx[s.line[0]], idx[s.line[1]]
-            u = node(c_) - node(a_)
-            u0 = x0[c_] - x0[a_]
-            along0 = float((x0[k] - x0[a_]) @ (u0 / np.linalg.norm(u0)))
-            return ca.dot(node(k) - node(a_), u / ca.norm_2(u)) - along0
-        d = np.array(s.direction, float)
-        return ca.dot(node(k) - x0[k], d / np.linalg.norm(d))
+    if p.kind == "slide":  # the slide of its definition (symkin.constraints), from the model's
+        con = slider_constraint(mech, p.target[0])
+        n = len(mech.nodes)
+        X = [tuple(x[dim * k + a] for a in range(dim)) for k in range(n)]
+        X0 = [tuple(map(float, x0[k])) for k in range(n)]
+        return con.slide(Casadi(), X) - con.slide(FLOATS, X0)
     raise SymkinError(f"{c.label}: a {p.kind} cannot drive a path; use rotation, slide, velocity "
                       "components or joint inputs")
 

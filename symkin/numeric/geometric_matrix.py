@@ -14,7 +14,14 @@ sum, ``G = Σ a aᵀ = Jᵀ J`` (eqs. 2-3).  The rows are:
 * a slider on a fixed line / plane: ``n·ẋ = 0`` for each normal ``n`` of the line
   (one in 2D, two in 3D) or the plane's normal;
 * a slider on the moving line through nodes A, C: ``n·(ẋ_P − (1−t)ẋ_A − t ẋ_C) = 0``
-  with ``t`` the position of P on A→C.
+  with ``t`` the position of P on A→C;
+* the screw row of a helical pair (slide = pitch × relative rotation).
+
+Each kind is defined once, in :mod:`symkin.constraints` (the same definitions give the
+CasADi, sympy and polynomial forms); here the sliders and helical pairs are those
+definitions evaluated in floats, and the bars are the vectorised evaluation of
+:class:`symkin.constraints.Bar` (a test keeps them equal).  The out-of-hull rows of a
+degenerate body are written here (:mod:`symkin.constraints.body` says why).
 
 Fixed nodes are boundary conditions: the analysis works on the *free* coordinates
 (the reduced matrix); :func:`geometric_matrix` with ``boundary=True`` returns the
@@ -28,9 +35,11 @@ from functools import lru_cache
 
 import numpy as np
 
+from symkin.constraints import slider_constraints
+from symkin.constraints.algebra import FLOATS
 from symkin.errors import ModelError, Problem
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.linalg import affine_hull, normal_basis
+from symkin.numeric.linalg import affine_hull
 from symkin.tolerances import DEFAULT
 
 __all__ = ["ConstraintRows", "constraint_rows", "geometric_matrix", "coordinate_labels",
@@ -273,30 +282,25 @@ def affine_frame(pts: np.ndarray, h: int) -> list[int]:
     return frame
 
 
-def _slider_rows(mech: Mechanism, pl: _Plan, x: np.ndarray) -> list[np.ndarray]:
-    """Rows of every slider: ``n·(ẋ_P − …) = 0`` for each normal ``n`` of its line / plane."""
-    dim, ncoord, index = pl.dim, pl.ncoord, pl.index
-    rows = []
-    for s in mech.sliders:
-        p = index[s.node]
-        if s.kind == "moving_line":
-            a, c = index[s.line[0]], index[s.line[1]]
-            e = x[c] - x[a]
-            le = np.linalg.norm(e)
-            u = e / le
-            t = float(np.dot(x[p] - x[a], u) / le)
-            weights = {p: 1.0, a: -(1.0 - t), c: -t}
-        else:
-            vec = np.array(s.direction if s.kind == "line" else s.normal, dtype=float)
-            u = vec / np.linalg.norm(vec)
-            weights = {p: 1.0}
-        normals = normal_basis(u) if s.kind != "plane" else u[None, :]
-        for n in normals:
+def _slider_rows(mech: Mechanism, pl: _Plan, x: list) -> tuple[list[np.ndarray], list[str]]:
+    """Rows and owners of the constraints after the links (sliders, helical pairs).
+
+    Each is its definition in :mod:`symkin.constraints` evaluated in floats; ``x`` are
+    the node coordinates (tuples of floats).
+    """
+    dim, ncoord = pl.dim, pl.ncoord
+    rows, owners = [], []
+    for c in slider_constraints(mech):
+        for r in c.rows(FLOATS, x, x):
             row = np.zeros(ncoord)
-            for k, w in weights.items():
-                row[dim * k: dim * k + dim] += w * n
+            inv = 1.0 / r.scale
+            for k, coef, vec in r.terms:
+                w = coef * inv
+                for a in range(dim):
+                    row[dim * k + a] += w * vec[a]
             rows.append(row)
-    return rows
+            owners.append(c.owner)
+    return rows, owners
 
 
 def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None = None) -> ConstraintRows:
@@ -327,15 +331,14 @@ def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None 
             pieces += [bars[start:end], np.array(extra)]
             owners += list(pl.bar_owners[start:end]) + [f"link {name} (rigidity out of its hull)"] * len(extra)
             start = end
-    sliders = _slider_rows(mech, pl, _xyz(mech) if xyz is None else xyz) if mech.sliders else []
+    sliders, slider_owners = _slider_rows(mech, pl, pts) if (mech.sliders or mech.helicals) else ([], [])
     if not pieces and not sliders:
         return ConstraintRows(matrix=bars, owners=pl.bar_owners)
     pieces.append(bars[start:])
     owners += list(pl.bar_owners[start:])
     if sliders:
         pieces.append(np.array(sliders))
-        owners += [f"slider {s.id}" for s in mech.sliders
-                   for _ in range(1 if s.kind == "plane" else mech.dim - 1)]
+        owners += slider_owners
     return ConstraintRows(matrix=np.vstack(pieces), owners=tuple(owners))
 
 

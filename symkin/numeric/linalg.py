@@ -9,6 +9,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import lapack
 
+from symkin.constraints.algebra import normal_basis  # one definition (the constraints' normals)
+
 __all__ = ["svd_factors", "singular_values", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
            "normal_basis", "affine_hull", "independent_rows"]
 
@@ -106,22 +108,6 @@ def rref(a: np.ndarray, tol: float) -> tuple[np.ndarray, list[int]]:
         row += 1
     r[np.abs(r) <= eps] = 0.0
     return r[: len(pivots)], pivots
-
-
-def normal_basis(u: np.ndarray) -> np.ndarray:
-    """Orthonormal basis (rows) of the complement of unit vector ``u`` (2D: 1 row, 3D: 2 rows).
-
-    Deterministic: in 3D the first normal is built from the coordinate axis least
-    aligned with ``u``.  Quantities built as sums over this basis (projectors) do not
-    depend on the choice.
-    """
-    if u.size == 2:
-        return np.array([[-u[1], u[0]]])
-    axis = np.zeros(3)
-    axis[int(np.argmin(np.abs(u)))] = 1.0
-    n1 = axis - axis.dot(u) * u
-    n1 /= np.linalg.norm(n1)
-    return np.vstack([n1, np.cross(u, n1)])
 
 
 def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.ndarray]:

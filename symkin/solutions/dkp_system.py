@@ -28,6 +28,7 @@ from sympy.polys.domains import RR
 from sympy.polys.rings import ring
 
 from symkin.curves.corrector import gauss_newton
+from symkin.constraints import SliderLine, slider_constraint
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair
@@ -114,7 +115,7 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
         form = sp.Matrix([float(a) for a in axis]).dot(r.cross(vel(names[k])))
     elif p.kind == "velocity":
         form = vel(p.target[0])[c.component if not p.component else "xyz".index(p.component)]
-    elif p.kind == "slide" and mech.slider(p.target[0]).kind != "moving_line":
+    elif p.kind == "slide" and isinstance(slider_constraint(mech, p.target[0]), SliderLine):
         s = mech.slider(p.target[0])
         d = np.array(s.direction, float)
         form = sum(float(w) * e for w, e in zip(d / np.linalg.norm(d), vel(s.node)))

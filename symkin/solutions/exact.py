@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from symkin.constraints import polynomial_constraints
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.coordinates import InputCoordinate, measuring_pair
@@ -101,6 +102,7 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
 
     from symkin.solutions.dkp_system import block_triangular, determinant, constant_on_curve
 
+    polynomial_constraints(mech, "the exact DKP system")
     p = c.parameter
     if mech.dim != 2 or mech.sliders or p.kind != "rotation":
         raise SymkinError(f"{mech.name}: the exact DKP system is built for planar mechanisms of revolute pairs "

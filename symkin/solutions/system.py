@@ -42,6 +42,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy as sp
 
+from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair, parse_input_label
@@ -160,6 +162,7 @@ class SystemBuilder:
     """
 
     def __init__(self, mech: Mechanism, tol: Tolerances):
+        polynomial_constraints(mech, "the polynomial position system (modes, singularities, solve)")
         self.mech = mech
         self.tol = tol
         self.dim = mech.dim
@@ -247,34 +250,25 @@ def _bodies(b: SystemBuilder) -> None:
                 b.add(owner, r)
 
 
-def _normals(direction: np.ndarray) -> list[np.ndarray]:
-    d = direction / np.linalg.norm(direction)
-    if d.size == 2:
-        return [np.array([-d[1], d[0]])]
-    q, _ = np.linalg.qr(np.column_stack([d, np.eye(3)]))
-    return [q[:, 1], q[:, 2]]
-
-
 def _sliders(b: SystemBuilder, skip: set) -> None:
-    for s in b.mech.sliders:
-        if s.id in skip:
+    """The sliders' polynomial equations (their definitions in :mod:`symkin.constraints`), in ``u``.
+
+    An equation with a constant denominator (a fixed line or plane) is divided by it: its
+    normals are then unit vectors, as the dimensionless system's other equations.
+    """
+    mech = b.mech
+    alg = Sympy(point_hook=lambda v, what: tuple(float(c) for c in (np.asarray(v, float) - b.center) / b.scale),
+                direction_hook=lambda v, what: tuple(float(c) for c in v))
+    X = [tuple(b.node(n)) for n in mech.node_names]
+    X0 = [tuple(map(float, c)) for _, c in mech.nodes]
+    for con in slider_constraints(mech):
+        if con.slider.id in skip:
             continue
-        owner = f"slider:{s.id}"
-        x = b.node(s.node)
-        if s.kind == "moving_line":
-            a, c = b.node(s.line[0]), b.node(s.line[1])
-            r, u = x - a, c - a
-            if b.dim == 2:
-                b.add(owner, r[0] * u[1] - r[1] * u[0])
-            else:
-                for comp in r.cross(u):
-                    b.add(owner, comp)
-            continue
-        p = (np.array(s.point, float) - b.center) / b.scale
-        normals = [np.array(s.normal, float) / np.linalg.norm(s.normal)] if s.kind == "plane" \
-            else _normals(np.array(s.direction, float))
-        for n in normals:
-            b.add(owner, _dot([float(v) for v in n], x - sp.Matrix(p)))
+        owner = f"slider:{con.slider.id}"
+        for eq in con.equations(alg, X, X0):
+            den = eq.denominator
+            constant = not getattr(den, "free_symbols", ())
+            b.add(owner, eq.numerator / float(den) if constant else eq.numerator)
 
 
 def _rotate(v, angle: float):
@@ -341,7 +335,7 @@ def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> No
         elif p.kind == "slide":
             s = mech.slider(p.target[0])
             x = b.node(s.node)
-            if s.kind == "moving_line":
+            if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
                 a, cc = b.node(s.line[0]), b.node(s.line[1])
                 u0 = b.model(s.line[1]) - b.model(s.line[0])
                 along0 = float((b.model(s.node) - b.model(s.line[0])) @ u0 / np.linalg.norm(u0))
@@ -361,9 +355,10 @@ def _legs(b: SystemBuilder, prescribed) -> list[tuple]:
     fixed = set(mech.fixed)
     slides = {c.parameter.target[0]: (c, v) for c, v in prescribed if c.parameter.kind == "slide"}
     out = []
-    for s in mech.sliders:
-        if s.kind != "moving_line":
+    for con in slider_constraints(mech):
+        if not isinstance(con, SliderMovingLine):
             continue
+        s = con.slider
         hit = slides.get(s.id) or slides.get(s.node)
         if hit is None or mech.slider(hit[0].parameter.target[0]).id != s.id:
             continue

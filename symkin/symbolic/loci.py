@@ -67,6 +67,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.kinds import LOCUS_KINDS, Kind
 from symkin.kinds import latex as latex_name
@@ -309,6 +311,7 @@ def closure_polynomials(mech: Mechanism) -> list[tuple[sp.Expr, str]]:
 
 
 def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
+    polynomial_constraints(mech, "the locus elimination")
     snap = snap_model(mech) if snap is None else snap
     fixed = set(mech.fixed)
     x0 = _nodes_exact(mech, snap)
@@ -353,37 +356,22 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
             target = tuple(coord[n0][a] + sum(coef[k] * basis[k][a] for k in range(len(basis))) for a in range(dim))
             for a in range(dim):
                 eqs.append((coord[m][a] - target[a], f"link {name} (node {m} in its frame)"))
-    for s in mech.sliders:
-        p = coord[s.node]
-        if s.kind == "moving_line":
-            a, c = s.line
-            e, r = _sub(coord[c], coord[a]), _sub(p, coord[a])
-            if dim == 2:
-                eqs.append((e[0] * r[1] - e[1] * r[0], f"slider {s.id}"))
-            else:
-                e0 = _sub(x0[c], x0[a])
-                axis = [0] * 3
-                axis[int(np.argmin([abs(float(v)) for v in e0]))] = 1
-                n1 = _cross3(e, axis)
-                for n in (n1, _cross3(e, n1)):
-                    eqs.append((_dot(n, r), f"slider {s.id}"))
-            continue
-        point = _slider_point(snap, s, x0)
-        r = _sub(p, point)
-        if s.kind == "plane":
-            eqs.append((_dot(_slider_vector(snap, s, s.normal, "normal"), r), f"slider {s.id}"))
-            continue
-        d = _slider_vector(snap, s, s.direction, "direction")
-        if dim == 2:
-            eqs.append((d[0] * r[1] - d[1] * r[0], f"slider {s.id}"))
-        else:
-            axis = [0] * 3
-            axis[int(np.argmin([abs(float(v)) for v in d]))] = 1
-            n1 = _cross3(d, axis)
-            for n in (n1, _cross3(d, n1)):
-                eqs.append((_dot(n, r), f"slider {s.id}"))
+    alg = Sympy(point_hook=lambda v, what: tuple(snap.number(c, f"coordinate {AXES[a]} of the {what}")
+                                                   for a, c in enumerate(v)),
+                direction_hook=lambda v, what: _snapped_vector(snap, v, what))
+    X = [coord[n] for n in mech.node_names]
+    X0 = [tuple(map(float, c)) for _, c in mech.nodes]
+    for con in slider_constraints(mech):  # the sliders' polynomial equations (symkin.constraints)
+        eqs += [(eq.numerator, con.owner) for eq in con.equations(alg, X, X0)]
     eqs = [(sp.expand(e), o) for e, o in eqs if sp.expand(e) != 0]
     return _System(mech, coord, x0, eqs, frames, snap, affine)
+
+
+def _snapped_vector(snap: ModelSnap, vec, what: str) -> tuple:
+    """A direction or normal (``what``: "direction of slider s"), snapped relative to its norm."""
+    which, _, rest = what.partition(" ")
+    norm = math.sqrt(sum(float(v) ** 2 for v in vec))
+    return tuple(snap.number(v, f"{which} {AXES[a]} {rest}", snap.mech.length_scale / norm) for a, v in enumerate(vec))
 
 
 def _slider_point(snap: ModelSnap, s, x0) -> tuple:
@@ -447,7 +435,7 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
         return [(e[0] * (1 + t ** 2) - ll * (1 - t ** 2), owner), (e[1] * (1 + t ** 2) - 2 * ll * t, owner)]
     if p.kind == "slide":
         s = mech.slider(p.target[0])
-        if s.kind == "moving_line":
+        if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
             a, b = s.line
             e = _sub(sys.coord[b], sys.coord[a])
             e0 = _sub(sys.x0[b], sys.x0[a])
@@ -488,8 +476,9 @@ def _to_nodal(expr: sp.Expr, sm, sys: _System) -> sp.Expr:
             th = sm.symbol(f"theta_{name}")
             subs[sp.cos(th)] = e[0] / ll
             subs[sp.sin(th)] = e[1] / ll
-        for s in mech.sliders:
-            if s.kind == "moving_line":
+        for con in slider_constraints(mech):
+            if isinstance(con, SliderMovingLine):
+                s = con.slider
                 a, b = s.line
                 e = _sub(sys.coord[b], sys.coord[a])
                 e0 = _sub(sys.x0[b], sys.x0[a])

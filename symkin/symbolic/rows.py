@@ -33,6 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from symkin.constraints import Body, SliderMovingLine, constraints_of, slider_constraints
+from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.geometric_matrix import affine_frame  # same frame choice as the numeric core
@@ -169,8 +171,9 @@ class RowBuilder:
                 s = angle_symbol(name)
                 self._add_config(s, math.atan2(d[1], d[0]))
                 self.angle_like.append(s)
-            for sl in mech.sliders:
-                if sl.kind == "moving_line":
+            for con in slider_constraints(mech):
+                if isinstance(con, SliderMovingLine):
+                    sl = con.slider
                     a, c = sl.line
                     e = self._delta_num(a, c)
                     t = float(np.dot(self._delta_num(a, sl.node), e) / np.linalg.norm(e))
@@ -247,6 +250,31 @@ class RowBuilder:
 
     # ------------------------------------------------------------------ constraint rows
     def _constraint_rows(self) -> list[SymRow]:
+        """The rows of :func:`symkin.constraints.constraints_of` in sympy (node coordinates).
+
+        Angle coordinates are another set of variables (a link's angle, a slider's slide):
+        their bars and moving-line sliders are written here over those (:meth:`_angle_rows`).
+        """
+        if self.mode == "angles":
+            return self._angle_rows()
+        alg = Sympy(const_hook=lambda v, what="": exact(v),
+                    length_hook=lambda link, a, b, d: self.length(link, a, b))
+        X = [self.coord[n] for n in self.mech.node_names]
+        X0 = [tuple(map(float, c)) for c in self.x]
+        rows: list[SymRow] = []
+        for con in constraints_of(self.mech):
+            if isinstance(con, Body):
+                rows += self._body_extra_rows(con.link, con.names)
+                continue
+            for r in con.rows(alg, X, X0):
+                merged: dict[int, list] = {}
+                for node, coef, vec in r.terms:
+                    merged.setdefault(node, []).append((coef, tuple(vec)))
+                blocks = tuple((n, tuple(t)) for n, t in sorted(merged.items()))
+                rows.append(SymRow(con.owner, con.element, blocks, r.scale))
+        return rows
+
+    def _angle_rows(self) -> list[SymRow]:
         rows: list[SymRow] = []
         for name, ns in self.mech.links:
             for a in range(len(ns)):
@@ -322,30 +350,19 @@ class RowBuilder:
         return [(n1, norm1), (n2, norm_e * norm1)]
 
     def _slider_rows(self, s) -> list[SymRow]:
+        """A slider's rows in angle coordinates (the planar sliders; node coordinates: the registry)."""
         p = s.node
         owner = f"slider {s.id}"
-        if s.kind in ("line", "plane"):
-            raw = tuple(exact(v) for v in (s.direction if s.kind == "line" else s.normal))
-            if s.kind == "plane":
-                normals = [(raw, sp.sqrt(_dot(raw, raw)))]
-            else:
-                normals = self._normals(raw, np.array(s.direction, dtype=float))
-            return [self._weighted_row(owner, f"slider {s.id}", n, norm, {p: 1}) for n, norm in normals]
+        if s.line is None:  # a fixed line (a planar model has no planes)
+            raw = tuple(exact(v) for v in s.direction)
+            return [self._weighted_row(owner, owner, n, norm, {p: 1})
+                    for n, norm in self._normals(raw, np.array(s.direction, dtype=float))]
         a, c = s.line
-        link = s.link
-        ll = self.length(link, a, c)
-        if self.mode == "angles":
-            alpha = self.angle(link, a, c)
-            n = (-sp.sin(alpha), sp.cos(alpha))
-            sv = slide_symbol(s.id)
-            return [self._weighted_row(owner, f"slider {s.id}", n, ll, {p: ll, a: -(ll - sv), c: -sv})]
-        e = self._delta_sym(a, c)
-        t_num = _dot(self._delta_sym(a, p), e)
-        rows = []
-        for n, norm in self._normals(e, self._delta_num(a, c), ll):
-            rows.append(self._weighted_row(owner, f"slider {s.id}", n, ll ** 2 * norm,
-                                           {p: ll ** 2, a: -(ll ** 2 - t_num), c: -t_num}))
-        return rows
+        ll = self.length(s.link, a, c)
+        alpha = self.angle(s.link, a, c)
+        n = (-sp.sin(alpha), sp.cos(alpha))
+        sv = slide_symbol(s.id)
+        return [self._weighted_row(owner, owner, n, ll, {p: ll, a: -(ll - sv), c: -sv})]
 
     # ------------------------------------------------------------------ parameter rows
     def rotation_rows(self, link: str, label: str) -> list[SymRow]:

@@ -74,6 +74,8 @@ import casadi as ca
 import numpy as np
 
 from symkin.analysis.batch import Evaluators, evaluators_for
+from symkin.constraints import slider_constraint
+from symkin.constraints.algebra import FLOATS
 from symkin.errors import SymkinError
 from symkin.model.labels import parse_hold  # noqa: F401  (moved to the model stage; re-exported)
 from symkin.model.mechanism import AXES, Mechanism
@@ -129,17 +131,8 @@ def _offset(mech: Mechanism, c: InputCoordinate, x0: np.ndarray) -> float:
         i = mech.node_index()[p.target[0]]
         axis = AXES.index(p.component) if p.component else c.component
         return float(x0[i, axis])
-    if p.kind == "slide":
-        s = mech.slider(p.target[0])
-        idx = mech.node_index()
-        k = idx[s.node]
-        if s.kind == "moving_line":
-            a, b = idx[s.line[0]], idx[s.line[1]]
-            u = x0[b] - x0[a]
-            return float((x0[k] - x0[a]) @ (u / np.linalg.norm(u)))
-        d = np.asarray(s.direction, float)
-        point = np.asarray(s.point if s.point is not None else x0[k], float)
-        return float((x0[k] - point) @ (d / np.linalg.norm(d)))
+    if p.kind == "slide":  # the slide of its definition (symkin.constraints)
+        return float(slider_constraint(mech, p.target[0]).slide(FLOATS, [tuple(map(float, r)) for r in x0]))
     return 0.0
 
 

@@ -132,7 +132,7 @@ def _set(k, **kv):
     (_set(0, type="C"), r"joints\[0\] \(A1\): type 'C' is not allowed in a planar model"),
     (_set(0, type="S"), r"joints\[0\] \(A1\): type 'S' is not allowed in a planar model"),
     (_set(0, type="Q"), r"joints\[0\] \(A1\): type must be one of R, P"),
-    (_set(0, type="H"), r"joints\[0\] \(A1\): the helical pair H is not available yet"),
+    (_set(0, type="H"), r"joints\[0\] \(A1\): type 'H' is not allowed in a planar model"),
     (_set(0, links=["cyl1", "cyl1"]), r"joints\[0\] \(A1\): joins link 'cyl1' to itself"),
     (_set(0, at=[0.0, "x"]), r"joints\[0\] \(A1\): at must be 2 finite numbers"),
     (_set(0, axis=[1.0, 0.0]), r"joints\[0\] \(A1\): 'axis' does not go with a planar R joint"),

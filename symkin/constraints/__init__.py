@@ -1,0 +1,102 @@
+"""One definition per constraint kind, for every backend (issue 16).
+
+Each kind is one module stating its velocity rows and position equations once, over an
+algebra (:mod:`symkin.constraints.algebra`: floats, CasADi SX, sympy):
+
+==========================  ==================================================================
+module                      constraint
+==========================  ==================================================================
+:mod:`.bar`                 a pair of nodes of a link (paper eqs. A3, A4)
+:mod:`.body`                (marker) the rows of a degenerate body out of its hull
+:mod:`.slider_line`         a node on a fixed line
+:mod:`.slider_plane`        a node on a fixed plane
+:mod:`.slider_moving_line`  a node on the moving line through two nodes of a link
+:mod:`.helical`             the screw row of a helical pair H
+==========================  ==================================================================
+
+:func:`constraints_of` is the registry every backend iterates (the numeric core, the CasADi
+model, the symbolic rows, the polynomial systems), in the core's row order: link by link
+(its bars, then its body marker), then the sliders, then the helical pairs.  A new kind
+is a new module here and a line in :func:`_of_model`.
+
+Examples
+--------
+>>> from symkin.model.catalogue import get
+>>> [c.owner for c in constraints_of(get("slider_crank"))][-1]
+'slider piston'
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+from symkin.constraints.bar import Bar
+from symkin.constraints.base import Constraint, Equation, Row
+from symkin.constraints.body import Body
+from symkin.constraints.helical import Helical
+from symkin.constraints.slider_line import SliderLine
+from symkin.constraints.slider_moving_line import SliderMovingLine
+from symkin.constraints.slider_plane import SliderPlane
+from symkin.errors import ModelError, Problem
+
+__all__ = ["Constraint", "Row", "Equation", "Bar", "Body", "SliderLine", "SliderPlane", "SliderMovingLine",
+           "Helical", "constraints_of", "slider_constraints", "slider_constraint", "polynomial_constraints"]
+
+
+def _slider(s, index: dict) -> Constraint:
+    """The constraint of a :class:`~symkin.model.mechanism.Slider` (its form decides the kind)."""
+    if s.line is not None:
+        return SliderMovingLine(s, index[s.node], index[s.line[0]], index[s.line[1]])
+    if s.normal is not None:
+        return SliderPlane(s, index[s.node])
+    return SliderLine(s, index[s.node])
+
+
+@lru_cache(maxsize=128)
+def _of_model(topology) -> tuple:
+    dim, node_names, links, _fixed, sliders = topology.key[:5]
+    helicals = topology.key[10] if len(topology.key) > 10 else ()
+    index = {n: i for i, n in enumerate(node_names)}
+    out: list[Constraint] = []
+    for name, ns in links:
+        for a in range(len(ns)):
+            for b in range(a + 1, len(ns)):
+                out.append(Bar(name, ns[a], ns[b], index[ns[a]], index[ns[b]]))
+        if len(ns) >= 3:
+            out.append(Body(name, ns, tuple(index[n] for n in ns)))
+    out += [_slider(s, index) for s in sliders]
+    out += [Helical(h, index) for h in helicals]
+    return tuple(out)
+
+
+def constraints_of(mech) -> tuple[Constraint, ...]:
+    """Every constraint of ``mech``, in the row order of the numeric core (cached per topology)."""
+    return _of_model(mech.topology)
+
+
+@lru_cache(maxsize=128)
+def _after_links(topology) -> tuple:
+    return tuple(c for c in _of_model(topology) if not isinstance(c, (Bar, Body)))
+
+
+def slider_constraints(mech) -> tuple[Constraint, ...]:
+    """The constraints after the links' (sliders, helical pairs), in order (cached per topology)."""
+    return _after_links(mech.topology)
+
+
+def slider_constraint(mech, ref: str) -> Constraint:
+    """The constraint of the slider ``ref`` (by id, or by node: :meth:`Mechanism.slider`)."""
+    s = mech.slider(ref)
+    return next(c for c in slider_constraints(mech) if getattr(c, "slider", None) == s)
+
+
+def polynomial_constraints(mech, what: str) -> tuple[Constraint, ...]:
+    """:func:`constraints_of`, or a :class:`~symkin.errors.ModelError` naming every constraint
+    whose position equation is not polynomial (a helical pair) for ``what`` (e.g. "the global solve")."""
+    cs = constraints_of(mech)
+    bad = [c for c in cs if not c.polynomial]
+    if bad:
+        raise ModelError([Problem(c.where, f"{what} needs polynomial position equations; the {c.kind} "
+                                           f"constraint of {c.owner.split()[-1]} ties a slide to an angle "
+                                           "(s = p·θ), which is not polynomial: use analyze, path, map or "
+                                           "conditions for this model") for c in bad])
+    return cs
