@@ -399,8 +399,9 @@ class _Builder:
         if kind == "rotation":
             rows = self.rotation_rows(param.target[0])
             return rows if dim == 2 else ca.mtimes(self.axis_vector(param.axis).T, rows)
-        if kind == "joint":
-            return self.rotation_rows(param.target[1]) - self.rotation_rows(param.target[0])
+        if kind == "joint":  # the second link's rotation minus the first's (spatial: about the axis)
+            rows = self.rotation_rows(param.target[1]) - self.rotation_rows(param.target[0])
+            return rows if dim == 2 else ca.mtimes(self.axis_vector(param.axis).T, rows)
         if kind == "twist":
             return self.twist_rows(param.target[0])
         if kind == "velocity":

@@ -523,6 +523,8 @@ def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
 def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = None) -> np.ndarray:
     """Rows (physical units) of one kinematic parameter over all nodal velocity components.
 
+    A rotation is the link's angular velocity (:func:`rotation_rows`; spatial: about the
+    unit axis), a joint the second link's minus the first's (spatial: ``a·(ω₂ − ω₁)``).
     ``xyz``: the coordinates as an (n_nodes, dim) array, when the caller has them.
     """
     pl = plan(mech.topology)
@@ -531,8 +533,9 @@ def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = N
     if kind == "rotation":
         rows = rotation_rows(mech, param.target[0], xyz)
         return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
-    if kind == "joint":
-        return rotation_rows(mech, param.target[1], xyz) - rotation_rows(mech, param.target[0], xyz)
+    if kind == "joint":  # the rotation of the second link relative to the first (about the axis)
+        rows = rotation_rows(mech, param.target[1], xyz) - rotation_rows(mech, param.target[0], xyz)
+        return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
     if kind == "twist":
         return twist_rows(mech, param.target[0], xyz)
     if kind == "velocity":

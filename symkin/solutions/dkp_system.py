@@ -105,7 +105,7 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
     p = c.parameter
     if p.kind == "rotation" and mech.dim == 2:
         form = turn(p.target[0])[0]
-    elif p.kind == "joint":
+    elif p.kind == "joint" and mech.dim == 2:
         (w1, k1), (w2, k2) = turn(p.target[0]), turn(p.target[1])
         form = k1 * w2 - k2 * w1
     elif p.kind == "rotation":

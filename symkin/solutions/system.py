@@ -302,7 +302,7 @@ def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> No
                 continue
             b.add(owner, -math.sin(phi) * d[0] + math.cos(phi) * d[1])
             b.filters.append((owner, math.cos(phi) * d[0] + math.sin(phi) * d[1]))
-        elif p.kind == "joint":
+        elif p.kind == "joint" and dim == 2:
             (i1, j1), (i2, j2) = measuring_pair(mech, p.target[0]), measuring_pair(mech, p.target[1])
             d1 = b.node(names[j1]) - b.node(names[i1])
             d2 = b.node(names[j2]) - b.node(names[i2])

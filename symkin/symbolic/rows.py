@@ -395,6 +395,12 @@ class RowBuilder:
                                             key=lambda b: b[0])), scale))
         return rows
 
+    def _axis(self, axis) -> tuple:
+        """A spatial rotation's axis vector (not normalised): two nodes' difference or the vector."""
+        if isinstance(axis[0], str):
+            return self._delta_sym(axis[0], axis[1])
+        return tuple(exact(v) for v in axis)
+
     def parameter_rows(self, param: Parameter) -> list[SymRow]:
         """Rows of one kinematic parameter, in the numeric core's units and row order."""
         labels = param.labels(self.dim)
@@ -404,18 +410,19 @@ class RowBuilder:
             rows = self.rotation_rows(param.target[0], labels[0])
             if dim == 2:
                 return [SymRow(labels[0], r.element, r.blocks, r.scale) for r in rows]
-            axis = param.axis
-            if isinstance(axis[0], str):
-                vec = self._delta_sym(axis[0], axis[1])
-            else:
-                vec = tuple(exact(v) for v in axis)
+            vec = self._axis(param.axis)
             return [_combine(rows, list(vec), labels[0], param.target[0],
                              extra_scale=sp.sqrt(_dot(vec, vec)))]
-        if kind == "joint":
+        if kind == "joint":  # the second link's rotation minus the first's (spatial: about the axis)
             r1 = self.rotation_rows(param.target[0], "a")
             r2 = self.rotation_rows(param.target[1], "b")
-            return [_combine([b, a], [sp.Integer(1), sp.Integer(-1)], lab, f"joint {param.target[0]}-{param.target[1]}")
-                    for a, b, lab in zip(r1, r2, labels)]
+            element = f"joint {param.target[0]}-{param.target[1]}"
+            if dim == 2:
+                return [_combine([b, a], [sp.Integer(1), sp.Integer(-1)], lab, element)
+                        for a, b, lab in zip(r1, r2, labels)]
+            vec = list(self._axis(param.axis))
+            return [_combine(r2 + r1, vec + [-v for v in vec], labels[0], element,
+                             extra_scale=sp.sqrt(_dot(vec, vec)))]
         if kind == "twist":
             link = param.target[0]
             first = self.index[self._links[link][0]]
