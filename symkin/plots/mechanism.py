@@ -19,6 +19,7 @@ from symkin.analysis.classification import Motion
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
+from symkin.tolerances import DEFAULT
 
 __all__ = ["draw_mechanism", "draw_leg_lines"]
 
@@ -477,7 +478,7 @@ class _JointView:
                 continue
             self.lines[j.id] = (point, d / np.linalg.norm(d), s)
         self.blocks = {s.node for _, _, s in self.lines.values()}
-        self.tol = 1e-6 * mech.length_scale
+        self.tol = DEFAULT.geometry * mech.length_scale  # on a line: as the joints were placed
 
     def stacked(self) -> set[str]:
         """Blocks at the point of another drawn node (a slide of zero): their label would cover it."""
