@@ -38,7 +38,8 @@ nodes) must be joined on its line (else it would be a body).
 Joint rates are expressed as the existing kinematic parameters (:class:`Parameter`),
 labelled ``joint:<id>``: a planar R between two moving links is the planar ``joint``
 parameter (ω₂ − ω₁), a joint to ground the rotation of the moving link (about ``axis`` in
-space; about ``-axis`` when ground is the second link), P and the slide of C the slide of
+space; about ``-axis`` when ground is the second link; in the plane, ground second, the
+planar ``joint`` parameter from the link to ``ground``, whose rotation is zero), P and the slide of C the slide of
 the slider ``<id>`` (relative slide of the second link along ``axis``).  The rotation rate of
 a spatial joint between two moving links (R, the rotation of C, either axis of U) is the
 spatial ``joint`` parameter ``a·(ω₂ − ω₁)`` about the joint's axis ``a`` given by two of its
@@ -343,10 +344,7 @@ def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list,
             return Parameter("joint", (first, second), label=label)
         if first == GROUND:
             return Parameter("rotation", (second,), label=label)
-        problems.append(Problem(where, f"the rate of joint {joint.id} with ground as its second link "
-                                       f"is minus the rotation of {first}: write links = "
-                                       f"[\"{GROUND}\", \"{first}\"]"))
-        return None
+        return Parameter("joint", (first, GROUND), label=label)  # ground's rotation (zero) minus first's
     first, second, axis = _rate_links(joint, motion)
     if first == GROUND:
         return Parameter("rotation", (second,), axis=axis, label=label)

@@ -72,7 +72,8 @@ class Parameter:
 
     ``kind`` is one of ``rotation``, ``slide``, ``velocity``, ``twist``, ``joint``;
     ``target`` names what it belongs to (a link, a slider, a node, or two links for a
-    joint: the rate of the second relative to the first).  ``axis`` is a pair of node names
+    joint: the rate of the second relative to the first; ``"ground"``, when no link has that
+    name, is the fixed frame of a model written by its joints, whose rotation is zero).  ``axis`` is a pair of node names
     or a vector (spatial rotations and joints: the rate about it, a spatial joint's
     ``a·(ω₂ − ω₁)``);
     ``component`` picks one axis of a velocity (``"x"``, ``"y"``, ``"z"``).

@@ -13,7 +13,7 @@ from itertools import product
 from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
-from symkin.model.joints import Limits, compile_joints
+from symkin.model.joints import GROUND, Limits, compile_joints
 from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider, length_scale
 from symkin.tolerances import DEFAULT
 
@@ -529,6 +529,12 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
             out.add(key, f"joint needs two link names, got {_short(value)}")
             return None
         missing = [v for v in value if v not in links]
+        if dim == 2 and missing == [GROUND] and value[0] != value[1]:  # the fixed frame of a joint model
+            other = value[1] if value[0] == GROUND else value[0]
+            if not set(links[other]) & set(fixed):
+                out.add(key, f"link {other} has no fixed node, so it forms no joint with {GROUND}")
+                return None
+            return Parameter("joint", (value[0], value[1]), label=label)
         if missing:
             out.add(key, f"unknown link(s) {', '.join(missing)}")
             return None

@@ -18,6 +18,7 @@ from symkin.errors import SymkinError
 from symkin.model.labels import CoordinateLabel, accepted_labels, parse_label
 from symkin.model.labels import driving_labels
 from symkin.model.labels import coordinate_labels
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 
 __all__ = ["InputCoordinate", "LinearInput", "accepted_input_labels", "input_coordinates", "parse_input_label",
@@ -130,6 +131,8 @@ def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
         return x[dim * k: dim * k + dim]
 
     def planar_turn(link):
+        if link == GROUND and link not in mech.link_names:  # the fixed frame of a joint model
+            return 0.0
         i, j = measuring_pair(mech, link)
         d, d0 = node(j) - node(i), x0[j] - x0[i]
         return ca.atan2(d0[0] * d[1] - d0[1] * d[0], d0[0] * d[0] + d0[1] * d[1])

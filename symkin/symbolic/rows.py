@@ -34,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.errors import SymkinError
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.geometric_matrix import affine_frame  # same frame choice as the numeric core
 from symkin.numeric.linalg import affine_hull
@@ -395,6 +396,12 @@ class RowBuilder:
                                             key=lambda b: b[0])), scale))
         return rows
 
+    def _link_rotation(self, link: str, label: str) -> list[SymRow]:
+        """:meth:`rotation_rows`; zero rows for the fixed frame of a joint model (``ground``, no such link)."""
+        if link == GROUND and link not in self._links:
+            return [SymRow(f"{label}.{AXES[c]}", link, (), sp.Integer(1)) for c in range(1 if self.dim == 2 else 3)]
+        return self.rotation_rows(link, label)
+
     def _axis(self, axis) -> tuple:
         """A spatial rotation's axis vector (not normalised): two nodes' difference or the vector."""
         if isinstance(axis[0], str):
@@ -414,8 +421,8 @@ class RowBuilder:
             return [_combine(rows, list(vec), labels[0], param.target[0],
                              extra_scale=sp.sqrt(_dot(vec, vec)))]
         if kind == "joint":  # the second link's rotation minus the first's (spatial: about the axis)
-            r1 = self.rotation_rows(param.target[0], "a")
-            r2 = self.rotation_rows(param.target[1], "b")
+            r1 = self._link_rotation(param.target[0], "a")
+            r2 = self._link_rotation(param.target[1], "b")
             element = f"joint {param.target[0]}-{param.target[1]}"
             if dim == 2:
                 return [_combine([b, a], [sp.Integer(1), sp.Integer(-1)], lab, element)

@@ -258,3 +258,53 @@ def test_c_with_a_motion_it_does_not_have_and_a_rod_on_the_axis_are_named():
     data["mobility"] = 4
     with pytest.raises(ModelError, match=r"rotation rate of joint J is not defined: link b is a rod along"):
         symkin.Mechanism.from_dict(data)
+
+
+def _fourbar(second_ground: bool) -> symkin.Mechanism:
+    data = jf.fourbar(catalogue.get("fourbar_appendix").coordinates())
+    if second_ground:
+        data["joints"][3]["links"] = ["rocker", "ground"]
+    return symkin.Mechanism.from_dict(data)
+
+
+def test_planar_r_with_ground_second_is_minus_the_rocker_rotation():
+    """R4 written [rocker, ground]: its rate is ground's rotation (zero) minus the rocker's, in every backend."""
+    a, b = _fourbar(False), _fourbar(True)
+    assert b.outputs[0].kind == "joint" and b.outputs[0].target == ("rocker", "ground")
+    assert b.outputs[0].labels(2) == ("joint:R4",)
+    ra, rb = gm.parameters_matrix(a, a.outputs)[0], gm.parameters_matrix(b, b.outputs)[0]
+    assert np.abs(ra).max() > 0.1 and np.allclose(rb, -ra, rtol=0, atol=1e-15)
+    assert np.allclose(gm.parameter_rows(b, b.outputs[0]), rb, rtol=0, atol=1e-15)   # the planar program and the rows
+    ev = evaluators(b)
+    assert np.allclose(ev("parameters", ev.q0)["outputs"], rb, rtol=0, atol=1e-15)
+    sm = symbolic.symbolic_model(b, coordinates="nodes")
+    rows = np.array(sm.evaluate(sm.parameter_rows(b.outputs)[0]), dtype=float)
+    v = symkin.analyze(b).motion.V
+    assert np.allclose(rows @ v, rb @ v, rtol=0, atol=1e-12)
+    # position level: driving R4 by +0.3 rad turns the rocker by −0.3 rad (the same configuration)
+    pb = symkin.trace(b, "joint:R4", 0.0, 0.3, steps=10, branch_analysis=False)
+    pa = symkin.trace(a, "joint:R4", 0.0, -0.3, steps=10, branch_analysis=False)
+    assert pb.stop_reason == pa.stop_reason == "reached"
+    assert np.allclose(pb.points[-1].coordinates, pa.points[-1].coordinates, atol=1e-9)
+    assert symkin.analyze(a).output_rank == symkin.analyze(b).output_rank == 1
+
+
+def test_planar_r_with_ground_second_in_the_global_solve():
+    a, b = _fourbar(False), _fourbar(True)
+    sa, sb = symkin.solve_all(a, {"joint:R4": -0.3}), symkin.solve_all(b, {"joint:R4": 0.3})
+
+    def points(sols):
+        return sorted(np.round(np.ravel([s.configuration[n] for n in a.node_names]), 7).tolist() for s in sols.solutions)
+
+    assert len(sa.solutions) == len(sb.solutions) == 2
+    assert np.allclose(points(sa), points(sb), atol=1e-6)
+
+
+def test_planar_r_with_ground_second_in_singularities():
+    """The square DKP systems (homotopy) and the traced circuits agree; the output angles are negated."""
+    a, b = _fourbar(False), _fourbar(True)
+    sa, sb = symkin.singularities(a), symkin.singularities(b)
+    check = {c.kind: c for c in sb.checks}["DKP-output"]
+    assert check.label == "joint:R4" and check.homotopy == check.traced == check.matched == 4
+    assert sorted(-x.output for x in sa.singularities) == pytest.approx(sorted(x.output for x in sb.singularities),
+                                                                        abs=1e-6)
