@@ -8,7 +8,6 @@ differenced, and angular velocities solved from node velocities by elementary al
 from __future__ import annotations
 
 import contextlib
-import copy
 import io
 import json
 import zlib
@@ -308,3 +307,10 @@ def test_planar_r_with_ground_second_in_singularities():
     assert check.label == "joint:R4" and check.homotopy == check.traced == check.matched == 4
     assert sorted(-x.output for x in sa.singularities) == pytest.approx(sorted(x.output for x in sb.singularities),
                                                                         abs=1e-6)
+
+
+@pytest.mark.parametrize("make", [lambda: _bennett(), lambda: _fourbar(True), _blocks_u])
+def test_relative_rates_round_trip_through_the_node_form(make):
+    m = make()
+    again = symkin.Mechanism.from_dict(json.loads(json.dumps(m.to_dict())))
+    assert again == m and again.inputs == m.inputs and again.outputs == m.outputs
