@@ -132,8 +132,8 @@ def test_type2_locus_is_the_pluecker_determinants_zero_set(scale):
         assert (det > 0).any() and (det < 0).any()                 # the line crosses the locus
         big = np.max(np.abs(det))
         for k in np.nonzero(sym[:-1] * sym[1:] < 0)[0]:
-            y_sym = brentq(lambda y: _indicator(m, scale, x, y), ys[k], ys[k + 1], xtol=1e-10 * scale)
-            y_true = brentq(lambda y: pluecker_det((x, y), scale), ys[k], ys[k + 1], xtol=1e-12 * scale)
+            y_sym = brentq(lambda y, x=x: _indicator(m, scale, x, y), ys[k], ys[k + 1], xtol=1e-10 * scale)
+            y_true = brentq(lambda y, x=x: pluecker_det((x, y), scale), ys[k], ys[k + 1], xtol=1e-12 * scale)
             assert abs(pluecker_det((x, y_sym), scale)) < 1e-8 * big, (x, y_sym)
             assert y_sym == pytest.approx(y_true, abs=1e-8 * scale)
             at = symkin.analyze(_pose(m, (x, y_sym), scale))

@@ -17,11 +17,11 @@ import pytest
 import sympy as sp
 
 import symkin
+from symkin.analysis.batch import evaluators
 from symkin.cli import main
 from symkin.errors import ModelError
 from symkin.model import catalogue
 from symkin.numeric import geometric_matrix as gm
-from symkin.analysis.batch import evaluators
 from tests.model import joint_forms as jf
 
 symbolic = pytest.importorskip("symkin.symbolic")

@@ -6,13 +6,13 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
+import numpy as np
+import pytest
 
-import symkin  # noqa: E402
-from symkin.model import catalogue  # noqa: E402
-from symkin.plots import draw_mechanism  # noqa: E402
-from tests.model import joint_forms as jf  # noqa: E402
+import symkin
+from symkin.model import catalogue
+from symkin.plots import draw_mechanism
+from tests.model import joint_forms as jf
 
 
 @pytest.fixture(autouse=True)
@@ -59,7 +59,7 @@ def test_ups_legs_are_whole_from_base_joint_to_platform_joint_in_3d():
             a = np.subtract(x[end], x[f"U{k}"])
             assert np.allclose(seg.mean(axis=0), x[f"U{k}"])
             assert abs(abs(np.dot(seg[1] - seg[0], a)) - np.linalg.norm(seg[1] - seg[0]) * np.linalg.norm(a)) < 1e-9
-    assert not any(g.startswith("link:cyl") or g.startswith("link:rod") or "cross" in g for g in lines)
+    assert not any(g.startswith(("link:cyl", "link:rod")) or "cross" in g for g in lines)
 
 
 def test_added_nodes_are_neither_labelled_nor_marked():
