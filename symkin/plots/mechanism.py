@@ -21,7 +21,7 @@ from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.tolerances import DEFAULT
 
-__all__ = ["draw_mechanism", "draw_leg_lines"]
+__all__ = ["draw_mechanism", "draw_leg_lines", "added_nodes"]
 
 #: colours: bars and bodies, ground, nodes; arrows cycle through ARROW_COLOURS
 LINK_COLOUR = "#3b6ea5"
@@ -52,6 +52,16 @@ def set_equal_3d(ax, points: np.ndarray) -> None:
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
     ax.set_box_aspect((1, 1, 1))
+
+
+def added_nodes(mech: Mechanism) -> set[str]:
+    """The nodes the joints of a model added (``R1.axis``, ``P2.line``, ``U1.axis2`` ...).
+
+    Named ``<joint id>.<role>``; a user never writes them, so plots neither draw, trace nor
+    label them as joints.  Empty for a model written by its nodes.
+    """
+    ids = {j.id for j in mech.joints}
+    return {n for n in mech.node_names if "." in n and n.split(".", 1)[0] in ids}
 
 
 def coordinates(mech: Mechanism) -> np.ndarray:
@@ -457,8 +467,7 @@ class _JointView:
     def __init__(self, mech: Mechanism, x: np.ndarray):
         self.mech, self.x = mech, x
         self.idx = mech.node_index()
-        ids = {j.id for j in mech.joints}
-        self.helpers = {n for n in mech.node_names if "." in n and n.split(".", 1)[0] in ids}
+        self.helpers = added_nodes(mech)
         self.links = dict(mech.links)
         self.fixed = set(mech.fixed)
         self.lines = {}  # joint id -> (point, unit direction, slider)

@@ -116,3 +116,13 @@ def test_a_block_on_a_fixed_guide_and_node_models_unchanged():
     assert np.allclose(guide[:, 1], dict(m.nodes)[block][1])              # the dashed guide along x through it
     node_form = _lines(draw_mechanism(symkin.read_model(jf.MODELS / "rpr_3.toml")))
     assert not any(g.startswith(("leg:", "axis:", "guide:")) for g in node_form)
+
+
+def test_traces_leave_out_the_added_nodes():
+    from symkin.plots import plot_traces
+
+    m = symkin.Mechanism.from_dict(jf.bennett(catalogue.get("bennett").coordinates()))
+    path = symkin.trace(m, "joint:A", 0.0, 0.5, steps=10, branch_analysis=False)
+    gids = {str(line.get_gid()) for line in plot_traces(path).lines}
+    assert {"trace:B", "trace:C"} <= gids
+    assert not any(g.startswith("trace:") and "." in g for g in gids)    # no trace:B.axis, trace:C.axis
