@@ -314,3 +314,23 @@ def test_relative_rates_round_trip_through_the_node_form(make):
     m = make()
     again = symkin.Mechanism.from_dict(json.loads(json.dumps(m.to_dict())))
     assert again == m and again.inputs == m.inputs and again.outputs == m.outputs
+
+
+@pytest.mark.parametrize("make", [lambda: _bennett(), lambda: _fourbar(True), _blocks_u,
+                                  lambda: symkin.Mechanism.from_dict(_blocks_c())])
+def test_position_coordinate_gradient_is_the_rate_row(make):
+    """The position-level joint angle (what a path drives) has the rate row as its gradient on the motions."""
+    from symkin.numeric.coordinates import LinearInput, input_coordinates
+    from symkin.paths.system import MechanismCurve
+
+    mech = make()
+    v = symkin.analyze(mech).motion.V
+    free = gm.free_mask(mech)
+    checked = 0
+    for c in input_coordinates(mech, mech.inputs + tuple(p for p in mech.outputs if p.kind == "joint")):
+        curve = MechanismCurve(mech, LinearInput.single(c), generated=False)
+        grad = np.array(curve._drive(curve.y0())[1]).ravel() / curve.scale
+        row = gm.parameter_rows(mech, c.parameter)[0]
+        np.testing.assert_allclose(grad @ v[free], row[free] @ v[free], atol=1e-12, err_msg=c.label)
+        checked += c.parameter.kind == "joint"
+    assert checked >= 1
