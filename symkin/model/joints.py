@@ -41,9 +41,15 @@ nodes) must be joined on its line (else it would be a body).
 Joint rates are expressed as the existing kinematic parameters (:class:`Parameter`),
 labelled ``joint:<id>``: a planar R between two moving links is the planar ``joint``
 parameter (ω₂ − ω₁), a joint to ground the rotation of the moving link (about ``axis`` in
-space; about ``-axis`` when ground is the second link; so is an H with ground as a link), P and the slide of C the slide of
+space; about ``-axis`` when ground is the second link; so is an H with ground as a link; in the plane,
+ground second, the planar ``joint`` parameter from the link to ``ground``, whose rotation is zero), P and the slide of C the slide of
 the slider ``<id>`` (relative slide of the second link along ``axis``).  The rotation rate of
-a spatial joint between two moving links has no existing parameter yet: asking for it is a
+a spatial joint between two moving links (R, the rotation of C, either axis of U) is the
+spatial ``joint`` parameter ``a·(ω₂ − ω₁)`` about the joint's axis ``a`` given by two of its
+nodes (``R1``-``R1.axis``; ``U1``-``U1.axis`` for axis 1, the cross turning on the first
+link; ``U1``-``U1.axis2`` for axis 2, the second link turning on the cross; ``C1.base``-``C1.line``
+of the guide for C), so that the axis moves with the links.  A link whose nodes all lie on
+that axis (a rod along it) has no spin the nodes can measure: asking for such a rate is a
 model error naming the joint.
 """
 from __future__ import annotations
@@ -362,8 +368,14 @@ class _Builder:
         return all(self.along_line(self.nodes[n], at, u) for n in self.links[link])
 
 
-def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list) -> Parameter | None:
-    """The rate ``motion`` ("rotation" or "slide"; U: "1", "2") of ``joint`` as an existing parameter."""
+def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list,
+          axes: Mapping | None = None) -> Parameter | None:
+    """The rate ``motion`` ("rotation" or "slide"; U: "1", "2") of ``joint`` as an existing parameter.
+
+    ``axes`` maps ``(joint id, motion)`` to the two nodes on the joint's axis (see
+    :func:`_axis_nodes`) for a spatial rotation between two moving links; without it such a
+    rate is not made (and nothing is reported).
+    """
     first, second = joint.links
     label = f"joint:{joint.id}" if joint.type in ("R", "P", "H") else f"joint:{joint.id}.{motion}"
     if motion == "slide":
@@ -373,25 +385,56 @@ def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list) -> Pa
             return Parameter("joint", (first, second), label=label)
         if first == GROUND:
             return Parameter("rotation", (second,), label=label)
-        problems.append(Problem(where, f"the rate of joint {joint.id} with ground as its second link "
-                                       f"is minus the rotation of {first}: write links = "
-                                       f"[\"{GROUND}\", \"{first}\"]"))
-        return None
-    axis = joint.axis
-    if joint.type == "U":
-        # axis 1: the cross turns on the first link; axis 2: the second link on the cross
-        cross = f"{joint.id}.cross"
-        first, second = (first, cross) if motion == "1" else (cross, second)
-        axis = joint.axis if motion == "1" else joint.axis2
+        return Parameter("joint", (first, GROUND), label=label)  # ground's rotation (zero) minus first's
+    first, second, axis = _rate_links(joint, motion)
     if first == GROUND:
         return Parameter("rotation", (second,), axis=axis, label=label)
     if second == GROUND:
         return Parameter("rotation", (first,), axis=tuple(-c for c in axis), label=label)
-    problems.append(Problem(where, f"the rotation rate of spatial joint {joint.id} between two moving "
-                                   f"links ({first}, {second}) is not available yet (a relative spatial "
-                                   "rotation has no kinematic parameter); drive it through a joint to "
-                                   "ground or a link's rotation about an axis"))
-    return None
+    if axes is None:
+        return None
+    got = axes.get((joint.id, motion))
+    if got is None:  # not placed: the model has other problems, reported already
+        return None
+    if isinstance(got, str):  # a problem found while placing the axis
+        problems.append(Problem(where, got))
+        return None
+    return Parameter("joint", (first, second), axis=got, label=label)
+
+
+def _rate_links(joint: Joint, motion: str) -> tuple[str, str, tuple]:
+    """The two links whose relative rotation is the rate ``motion`` of a spatial joint, and its axis.
+
+    U's axis 1 is the cross turning on the first link about ``axis``, axis 2 the second link
+    turning on the cross about ``axis2``; R and C turn the second link on the first.
+    """
+    first, second = joint.links
+    if joint.type == "U":
+        cross = f"{joint.id}.cross"
+        return (first, cross, joint.axis) if motion == "1" else (cross, second, joint.axis2)
+    return first, second, joint.axis
+
+
+def _axis_nodes(b: "_Builder", joint: Joint, motion: str):
+    """The two nodes on the axis of a spatial rotation between two moving links, or a problem.
+
+    The nodes at ``at`` and ``at + ℓ·axis`` (``axis2`` for U's axis 2) of the rate's first
+    link (for R and U shared with the second link; for C the guide's line), from the first
+    to the second (the axis' direction).  A problem (a string) when one of the two links is a
+    rod along that axis: the nodes do not measure its spin about its own line.
+    """
+    first, second, axis = _rate_links(joint, motion)
+    ends = []
+    for point in (joint.at, _plus(joint.at, axis, b.reach)):
+        found = b.near(b.links[first], point)
+        if not found:
+            return f"joint {joint.id}: no node of link {first} on its axis"
+        ends.append(found[0])
+    for link in (first, second):
+        if b.along(link, joint.at, axis):
+            return (f"the rotation rate of joint {joint.id} is not defined: link {link} is a rod along "
+                    f"the joint's axis (all its nodes on it), so its spin about the axis moves no node")
+    return (ends[0], ends[1])
 
 
 def _motions(joint: Joint) -> tuple[str, ...]:
@@ -407,8 +450,12 @@ def _motions(joint: Joint) -> tuple[str, ...]:
     return ()
 
 
-def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems: list):
-    """A ``{joint = "R1", ...}`` entry → the parameter dictionary it stands for, or None."""
+def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems: list,
+                     axes: Mapping | None = None):
+    """A ``{joint = "R1", ...}`` entry → the parameter dictionary it stands for, or None.
+
+    ``axes``: the axis nodes of spatial rotations between moving links (see :func:`_rate`).
+    """
     joint = by_id.get(item["joint"])
     if joint is None:
         problems.append(Problem(where, f"unknown joint {item['joint']!r}"))
@@ -438,7 +485,7 @@ def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems:
                                            f"{joint.type} joint {joint.id}"))
             return None
         motion = _motions(joint)[0]
-    p = _rate(joint, dim, motion, where, problems)
+    p = _rate(joint, dim, motion, where, problems, axes)
     if p is None:
         return None
     out = p.to_dict()
@@ -536,10 +583,12 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
                 link != GROUND and b.along(link, j.at, j.axis) for link in j.links):
             _key(b, j)
 
+    axes = {(j.id, m): _axis_nodes(b, j, m) for j in joints if dim == 3 and not problems
+            for m in _motions(j) if m != "slide" and GROUND not in _rate_links(j, m)[:2]}
     rates = []
     for j in joints:
         for motion in _motions(j):
-            p = _rate(j, dim, motion, "", [])
+            p = _rate(j, dim, motion, "", [], axes)
             if p is not None:
                 rates.append((p.label, p))
     by_id = {j.id: j for j in joints}
@@ -551,7 +600,7 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
         new = []
         for k, item in enumerate(params):
             if isinstance(item, Mapping) and isinstance(item.get("joint"), str):
-                item = _joint_parameter(item, f"{where}[{k}]", by_id, dim, problems)
+                item = _joint_parameter(item, f"{where}[{k}]", by_id, dim, problems, axes)
                 if item is None:
                     continue
             new.append(item)

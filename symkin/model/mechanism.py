@@ -112,7 +112,10 @@ class Parameter:
 
     ``kind`` is one of ``rotation``, ``slide``, ``velocity``, ``twist``, ``joint``;
     ``target`` names what it belongs to (a link, a slider, a node, or two links for a
-    joint).  ``axis`` is a pair of node names or a vector (spatial rotations);
+    joint: the rate of the second relative to the first; ``"ground"``, when no link has that
+    name, is the fixed frame of a model written by its joints, whose rotation is zero).  ``axis`` is a pair of node names
+    or a vector (spatial rotations and joints: the rate about it, a spatial joint's
+    ``a·(ω₂ − ω₁)``);
     ``component`` picks one axis of a velocity (``"x"``, ``"y"``, ``"z"``).
     """
 
@@ -134,7 +137,9 @@ class Parameter:
 
     def _base_label(self) -> str:
         if self.kind == "joint":
-            return f"joint:{self.target[0]}-{self.target[1]}"
+            about = "" if self.axis is None else f"[{self.axis[0]}-{self.axis[1]}]" \
+                if isinstance(self.axis[0], str) else f"[{','.join(f'{a:g}' for a in self.axis)}]"
+            return f"joint:{self.target[0]}-{self.target[1]}{about}"
         if self.kind == "rotation" and self.axis is not None and isinstance(self.axis[0], str):
             return f"rotation:{self.target[0]}[{self.axis[0]}-{self.axis[1]}]"
         if self.kind == "rotation" and self.axis is not None:

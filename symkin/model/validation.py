@@ -13,7 +13,7 @@ from itertools import product
 from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
-from symkin.model.joints import Limits, compile_joints
+from symkin.model.joints import GROUND, Limits, compile_joints
 from symkin.model.mechanism import AXES, Helical, Mechanism, Parameter, Slider, length_scale
 from symkin.tolerances import DEFAULT
 
@@ -561,25 +561,33 @@ def _parameter(kind, item, key, ctx, out) -> Parameter | None:
     if label is not None and not isinstance(label, str):
         out.add(key, "label must be a string")
         label = None
-    for extra, allowed in (("axis", ("rotation",)), ("component", ("velocity",))):
+    for extra, allowed in (("axis", ("rotation", "joint")), ("component", ("velocity",))):
         if extra in item and kind not in allowed:
             out.add(key, f"'{extra}' goes with {' or '.join(allowed)} only")
             return None
     if kind == "joint":
-        if dim == 3:
-            out.add(key, "joint rates are planar; in a spatial model use rotation with an axis")
-            return None
         if not (isinstance(value, (list, tuple)) and len(value) == 2 and all(isinstance(v, str) for v in value)):
             out.add(key, f"joint needs two link names, got {_short(value)}")
             return None
         missing = [v for v in value if v not in links]
+        if dim == 2 and missing == [GROUND] and value[0] != value[1]:  # the fixed frame of a joint model
+            other = value[1] if value[0] == GROUND else value[0]
+            if not set(links[other]) & set(fixed):
+                out.add(key, f"link {other} has no fixed node, so it forms no joint with {GROUND}")
+                return None
+            return Parameter("joint", (value[0], value[1]), label=label)
         if missing:
             out.add(key, f"unknown link(s) {', '.join(missing)}")
             return None
-        if not set(links[value[0]]) & set(links[value[1]]):
+        if dim == 2 and not set(links[value[0]]) & set(links[value[1]]):
             out.add(key, f"links {value[0]} and {value[1]} share no node, so they form no joint")
             return None
-        return Parameter("joint", (value[0], value[1]), label=label)
+        axis = None  # spatial: the relative rotation about an axis, a·(ω₂ − ω₁)
+        for link in value:
+            axis = _rotation_axis(item, link, key, ctx, out)
+            if axis is False:
+                return None
+        return Parameter("joint", (value[0], value[1]), axis=axis, label=label)
     if not isinstance(value, str):
         out.add(key, f"{kind} needs a name, got {_short(value)}")
         return None

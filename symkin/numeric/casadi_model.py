@@ -45,6 +45,7 @@ import numpy as np
 
 from symkin.constraints import Body, constraints_of
 from symkin.constraints.algebra import Casadi
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.geometric_matrix import affine_frame, coordinate_labels, free_mask
 from symkin.numeric.linalg import affine_hull
@@ -350,6 +351,12 @@ class _Builder:
             cols[k] = cols[k] + b
         return ca.horzcat(*cols)
 
+    def link_rotation(self, link: str) -> ca.SX:
+        """:meth:`rotation_rows`; zero for the fixed frame of a joint model (``ground``, no such link)."""
+        if link == GROUND and link not in dict(self.mech.links):
+            return ca.SX(1 if self.dim == 2 else 3, self.D)
+        return self.rotation_rows(link)
+
     def axis_vector(self, axis) -> ca.SX:
         if isinstance(axis[0], str):
             v = self.node(self.index[axis[1]]) - self.node(self.index[axis[0]])
@@ -363,8 +370,9 @@ class _Builder:
         if kind == "rotation":
             rows = self.rotation_rows(param.target[0])
             return rows if dim == 2 else ca.mtimes(self.axis_vector(param.axis).T, rows)
-        if kind == "joint":
-            return self.rotation_rows(param.target[1]) - self.rotation_rows(param.target[0])
+        if kind == "joint":  # the second link's rotation minus the first's (spatial: about the axis)
+            rows = self.link_rotation(param.target[1]) - self.link_rotation(param.target[0])
+            return rows if dim == 2 else ca.mtimes(self.axis_vector(param.axis).T, rows)
         if kind == "twist":
             return self.twist_rows(param.target[0])
         if kind == "velocity":

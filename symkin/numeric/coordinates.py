@@ -20,6 +20,7 @@ from symkin.errors import SymkinError
 from symkin.model.labels import CoordinateLabel, accepted_labels, parse_label
 from symkin.model.labels import driving_labels
 from symkin.model.labels import coordinate_labels
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 
 __all__ = ["InputCoordinate", "LinearInput", "accepted_input_labels", "input_coordinates", "parse_input_label",
@@ -93,6 +94,35 @@ def axis_angle_setup(mech: Mechanism, p: Parameter):
     return a, origin, moving[int(np.argmax(radial))]
 
 
+def relative_pair(mech: Mechanism, link: str, axis) -> tuple[int, int]:
+    """Two nodes of ``link`` whose vector is the farthest from the (spatial) ``axis``.
+
+    ``axis``: two node names or a vector.  The vector between them, projected normal to the
+    axis, measures the link's angle about it (a spatial joint's angle, :func:`_expression`).
+    """
+    idx = mech.node_index()
+    x = np.array([c for _, c in mech.nodes])
+    a = x[idx[axis[1]]] - x[idx[axis[0]]] if isinstance(axis[0], str) else np.asarray(axis, float)
+    a = a / np.linalg.norm(a)
+    ns = [idx[n] for n in mech.link_nodes(link)]
+
+    def off(i, k):
+        d = x[k] - x[i]
+        return float(np.linalg.norm(d - (d @ a) * a))
+
+    return max(((i, k) for i in ns for k in ns if i < k), key=lambda ik: off(*ik))
+
+
+def _joint_angle(mech: Mechanism, p: Parameter, pairs, x: np.ndarray) -> float:
+    """The angle of a spatial joint at the coordinates ``x`` (n × 3) by its node ``pairs``."""
+    idx = mech.node_index()
+    a = x[idx[p.axis[1]]] - x[idx[p.axis[0]]] if isinstance(p.axis[0], str) else np.asarray(p.axis, float)
+    a = a / np.linalg.norm(a)
+    d = [x[k] - x[i] for i, k in pairs]
+    d = [v - (v @ a) * a for v in d]
+    return math.atan2(float(np.cross(d[0], d[1]) @ a), float(d[0] @ d[1]))
+
+
 def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
     import casadi as ca
 
@@ -103,14 +133,28 @@ def _expression(c: InputCoordinate, mech: Mechanism, x, x0: np.ndarray):
         return x[dim * k: dim * k + dim]
 
     def planar_turn(link):
+        if link == GROUND and link not in mech.link_names:  # the fixed frame of a joint model
+            return 0.0
         i, j = measuring_pair(mech, link)
         d, d0 = node(j) - node(i), x0[j] - x0[i]
         return ca.atan2(d0[0] * d[1] - d0[1] * d[0], d0[0] * d[0] + d0[1] * d[1])
 
     if p.kind == "rotation" and dim == 2:
         return planar_turn(p.target[0])
-    if p.kind == "joint":
+    if p.kind == "joint" and dim == 2:
         turn = planar_turn(p.target[1]) - planar_turn(p.target[0])
+        return ca.atan2(ca.sin(turn), ca.cos(turn))
+    if p.kind == "joint":  # the angle from the first link's vector to the second's, about the axis
+        idx = mech.node_index()
+        if isinstance(p.axis[0], str):
+            a = node(idx[p.axis[1]]) - node(idx[p.axis[0]])
+            a = a / ca.norm_2(a)
+        else:
+            a = ca.DM(np.asarray(p.axis, float) / np.linalg.norm(p.axis))
+        pairs = [relative_pair(mech, link, p.axis) for link in p.target]
+        d = [node(k) - node(i) for i, k in pairs]
+        d = [v - ca.dot(v, a) * a for v in d]
+        turn = ca.atan2(ca.dot(ca.cross(d[0], d[1]), a), ca.dot(d[0], d[1])) - _joint_angle(mech, p, pairs, x0)
         return ca.atan2(ca.sin(turn), ca.cos(turn))
     if p.kind == "rotation":
         a, origin, k = axis_angle_setup(mech, p)

@@ -38,6 +38,7 @@ import numpy as np
 from symkin.constraints import slider_constraints
 from symkin.constraints.algebra import FLOATS
 from symkin.errors import ModelError, Problem
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.linalg import affine_hull
 from symkin.tolerances import DEFAULT
@@ -523,9 +524,18 @@ def _axis_vector(mech: Mechanism, axis) -> np.ndarray:
     return np.array([v / n for v in vec])
 
 
+def _link_rotation(mech: Mechanism, pl: _Plan, link: str, xyz) -> np.ndarray:
+    """:func:`rotation_rows` of ``link``; zero for the fixed frame of a joint model (``ground``, no such link)."""
+    if link == GROUND and link not in pl.links:
+        return np.zeros((1 if pl.dim == 2 else 3, pl.ncoord))
+    return rotation_rows(mech, link, xyz)
+
+
 def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = None) -> np.ndarray:
     """Rows (physical units) of one kinematic parameter over all nodal velocity components.
 
+    A rotation is the link's angular velocity (:func:`rotation_rows`; spatial: about the
+    unit axis), a joint the second link's minus the first's (spatial: ``a·(ω₂ − ω₁)``).
     ``xyz``: the coordinates as an (n_nodes, dim) array, when the caller has them.
     """
     pl = plan(mech.topology)
@@ -534,8 +544,9 @@ def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = N
     if kind == "rotation":
         rows = rotation_rows(mech, param.target[0], xyz)
         return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
-    if kind == "joint":
-        return rotation_rows(mech, param.target[1], xyz) - rotation_rows(mech, param.target[0], xyz)
+    if kind == "joint":  # the rotation of the second link relative to the first (about the axis)
+        rows = _link_rotation(mech, pl, param.target[1], xyz) - _link_rotation(mech, pl, param.target[0], xyz)
+        return rows if dim == 2 else (_axis_vector(mech, param.axis) @ rows)[None, :]
     if kind == "twist":
         return twist_rows(mech, param.target[0], xyz)
     if kind == "velocity":
@@ -586,8 +597,9 @@ def _planar_terms(pl: _Plan, param: Parameter) -> tuple[np.ndarray, list] | None
     kind, target = param.kind, param.target
     if kind == "rotation":
         return np.zeros((1, pl.ncoord)), [(0, 1.0, target[0])]
-    if kind == "joint":
-        return np.zeros((1, pl.ncoord)), [(0, 1.0, target[1]), (0, -1.0, target[0])]
+    if kind == "joint":  # the fixed frame of a joint model turns not
+        return np.zeros((1, pl.ncoord)), [(0, s, link) for s, link in ((1.0, target[1]), (-1.0, target[0]))
+                                          if link != GROUND or link in pl.links]
     if kind == "twist":
         const = np.zeros((3, pl.ncoord))
         i = pl.links[target[0]][0]

@@ -19,8 +19,9 @@ from symkin.analysis.classification import Motion
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
+from symkin.tolerances import DEFAULT
 
-__all__ = ["draw_mechanism", "draw_leg_lines"]
+__all__ = ["draw_mechanism", "draw_leg_lines", "added_nodes"]
 
 #: colours: bars and bodies, ground, nodes; arrows cycle through ARROW_COLOURS
 LINK_COLOUR = "#3b6ea5"
@@ -51,6 +52,16 @@ def set_equal_3d(ax, points: np.ndarray) -> None:
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_zlim(centre[2] - half, centre[2] + half)
     ax.set_box_aspect((1, 1, 1))
+
+
+def added_nodes(mech: Mechanism) -> set[str]:
+    """The nodes the joints of a model added (``R1.axis``, ``P2.line``, ``U1.axis2`` ...).
+
+    Named ``<joint id>.<role>``; a user never writes them, so plots neither draw, trace nor
+    label them as joints.  Empty for a model written by its nodes.
+    """
+    ids = {j.id for j in mech.joints}
+    return {n for n in mech.node_names if "." in n and n.split(".", 1)[0] in ids}
 
 
 def coordinates(mech: Mechanism) -> np.ndarray:
@@ -187,7 +198,14 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
         fixed lines), ``slider:ID`` (the line), ``motion:LABEL`` (one quiver per motion).
         A prismatic leg (a link carrying a moving line on which a platform joint slides) is one
         segment from its base joint to the platform joint; the node that only fixes its line is
-        not drawn as a joint.
+        not drawn as a joint.  A model written by its joints (``[[joints]]``) is drawn by them:
+        links by the points the user gave (joint points and listed nodes), each P or C as a
+        leg ``leg:ID`` (one segment over the points of its two links on its line: from the base
+        joint to the platform joint) with its block ``slider:ID`` (a square on the line at the
+        runner's node; a dashed ``guide:ID`` when the guide is ground), each spatial R and U
+        axis as a short segment ``axis:ID`` (``axis:ID.1``, ``axis:ID.2``), S joints as balls
+        ``spheres``; the nodes a joint added (``R1.axis``, ``P2.line``, ``U1.axis2`` ...) are
+        neither drawn nor labelled.
 
     Examples
     --------
@@ -211,16 +229,25 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
     extent = float(np.ptp(xp, axis=0).max()) if len(xp) > 1 else 1.0
     extent = extent if extent > 0 else mech.length_scale
 
-    legs = _prismatic_legs(mech, x)
+    view = _JointView(mech, x) if mech.joints else None
+    legs = {} if view else _prismatic_legs(mech, x)
     for name, nodes in mech.links:
         colour = GROUND_COLOUR if name in ground else LINK_COLOUR
-        pts = _project(legs[name], three_d) if name in legs else xp[[idx[n] for n in nodes]]
+        if view is not None:  # by the points the user gave: the joints' added nodes are not the link's shape
+            shown = view.shape(name)
+            if shown is None:
+                continue
+            pts = xp[[idx[n] for n in shown]]
+        else:
+            pts = _project(legs[name], three_d) if name in legs else xp[[idx[n] for n in nodes]]
         _draw_link(ax, name, pts, colour, three_d, ground=name in ground)
 
-    extra_points = [xp]
+    extra_points = [xp if view is None else xp[[idx[n] for n in mech.node_names if n not in view.helpers]]]
+    if view is not None:
+        extra_points += view.draw(ax, three_d, extent)
     for s in mech.sliders:
-        if s.kind != "line":
-            continue  # moving lines are inside their link; planes are not drawn
+        if s.kind != "line" or view is not None:
+            continue  # moving lines are inside their link; planes are not drawn; a joint's guide: its view
         k = idx[s.node]
         d = np.asarray(s.direction, float)
         d = d / np.linalg.norm(d)
@@ -231,11 +258,12 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
         ax.plot(*seg.T, linestyle="--", color=GROUND_COLOUR, linewidth=1.2, zorder=1, gid=f"slider:{s.id}")
         extra_points.append(seg)
 
-    on_line = {s.node for s in mech.sliders if s.kind == "line"}
-    helpers = _line_helpers(mech)  # nodes that only carry a leg's line: drawn inside the leg, not as joints
+    on_line = {s.node for s in mech.sliders if s.kind == "line"} if view is None else view.blocks
+    # nodes that only carry a leg's line, or that a joint added (R1.axis, P2.line, U1.axis2 ...): not joints
+    helpers = _line_helpers(mech) if view is None else view.helpers
     moving = [k for k, n in enumerate(mech.node_names) if n not in fixed and n not in on_line and n not in helpers]
-    blocks = [k for k, n in enumerate(mech.node_names) if n not in fixed and n in on_line]
-    ground_idx = [k for k, n in enumerate(mech.node_names) if n in fixed]
+    blocks = [k for k, n in enumerate(mech.node_names) if n not in fixed and n in on_line and view is None]
+    ground_idx = [k for k, n in enumerate(mech.node_names) if n in fixed and n not in helpers]
     kw = dict(linestyle="none", zorder=4)
     if moving:
         ax.plot(*xp[moving].T, marker="o", markersize=7, markerfacecolor="white", markeredgecolor="black",
@@ -246,8 +274,9 @@ def draw_mechanism(mech: Mechanism, ax=None, motion=None, scale: float | None = 
     if ground_idx:
         ax.plot(*xp[ground_idx].T, marker="^", markersize=11, color="black", gid="fixed", **kw)
     if labels:
+        stacked = set() if view is None else view.stacked()
         for k, n in enumerate(mech.node_names):
-            if n in helpers:
+            if n in helpers or n in stacked:
                 continue
             if three_d:
                 ax.text(*xp[k], f" {n}", fontsize=9, zorder=5)
@@ -426,3 +455,115 @@ def _draw_arrows(ax, xp: np.ndarray, arrows: np.ndarray, label: str, colour: str
         ax.quiver(*base.T, *vec.T, angles="xy", scale_units="xy", scale=1.0, color=colour, width=0.006,
                   zorder=6, label=label, gid=f"motion:{label}")
     return base + vec
+
+
+class _JointView:
+    """How a model written by its joints is drawn (see :func:`draw_mechanism`).
+
+    ``helpers``: the nodes a joint added (named ``<joint id>.<role>``), never drawn as joints;
+    ``blocks``: the runner's node of each P and C (drawn as a block on its line).
+    """
+
+    def __init__(self, mech: Mechanism, x: np.ndarray):
+        self.mech, self.x = mech, x
+        self.idx = mech.node_index()
+        self.helpers = added_nodes(mech)
+        self.links = dict(mech.links)
+        self.fixed = set(mech.fixed)
+        self.lines = {}  # joint id -> (point, unit direction, slider)
+        for j in mech.joints:
+            if j.type not in ("P", "C"):
+                continue
+            try:
+                s = mech.slider(j.id)
+            except KeyError:
+                continue
+            if s.kind == "moving_line":
+                a, b = x[self.idx[s.line[0]]], x[self.idx[s.line[1]]]
+                point, d = a, b - a
+            elif s.kind == "line":
+                point, d = np.asarray(s.point, float), np.asarray(s.direction, float)
+            else:
+                continue
+            self.lines[j.id] = (point, d / np.linalg.norm(d), s)
+        self.blocks = {s.node for _, _, s in self.lines.values()}
+        self.tol = DEFAULT.geometry * mech.length_scale  # on a line: as the joints were placed
+
+    def stacked(self) -> set[str]:
+        """Blocks at the point of another drawn node (a slide of zero): their label would cover it."""
+        others = [self.x[self.idx[n]] for n in self.mech.node_names if n not in self.helpers and n not in self.blocks]
+        return {b for b in self.blocks
+                if any(np.linalg.norm(self.x[self.idx[b]] - p) <= self.tol for p in others)}
+
+    def real(self, link: str) -> list[str]:
+        """The link's nodes the user gave or a joint's point stands for (not the added ones)."""
+        return [n for n in self.links.get(link, ()) if n not in self.helpers]
+
+    def _on(self, name: str, jid: str) -> bool:
+        point, d, _ = self.lines[jid]
+        r = self.x[self.idx[name]] - point
+        return float(np.linalg.norm(r - (r @ d) * d)) <= self.tol
+
+    def shape(self, link: str) -> list[str] | None:
+        """The nodes that draw ``link``, or None (fewer than two, or a part of a leg drawn whole)."""
+        nodes = self.real(link)
+        if len(nodes) < 2:
+            return None
+        for j in self.mech.joints:
+            if j.id in self.lines and link in j.links and all(self._on(n, j.id) for n in nodes):
+                return None
+        return nodes
+
+    def _centre(self, j) -> str | None:
+        if j.id in self.idx:
+            return j.id
+        pools = [self.fixed if link == "ground" else set(self.links.get(link, ())) for link in j.links]
+        common = [n for n in self.links.get(j.links[1], ()) if n in pools[0] and n in pools[1]
+                  and n not in self.helpers] if j.links[1] != "ground" else \
+            [n for n in self.links.get(j.links[0], ()) if n in self.fixed and n not in self.helpers]
+        return common[0] if common else None
+
+    def draw(self, ax, three_d: bool, extent: float) -> list[np.ndarray]:
+        """Legs, blocks' guides and joint axes; returns the drawn points (projected)."""
+        x, idx, out = self.x, self.idx, []
+        for j in self.mech.joints:
+            if j.id not in self.lines:
+                continue
+            point, d, s = self.lines[j.id]
+            names = [n for link in j.links if link != "ground" for n in self.real(link) if self._on(n, j.id)]
+            names.append(s.node)
+            t = [float((x[idx[n]] - point) @ d) for n in names]
+            ends = np.array([point + min(t) * d, point + max(t) * d])
+            seg = _project(ends, three_d)
+            if "ground" in j.links:  # a block on a fixed guide: the guide dashed
+                half = 0.6 * self.mech.length_scale
+                foot = x[idx[s.node]]
+                guide = _project(np.array([foot - half * d, foot + half * d]), three_d)
+                ax.plot(*guide.T, linestyle="--", color=GROUND_COLOUR, linewidth=1.2, zorder=1, gid=f"guide:{j.id}")
+                out.append(guide)
+            if max(t) > min(t):
+                ax.plot(*seg.T, color=LINK_COLOUR, linewidth=3.0, solid_capstyle="round", zorder=2,
+                        gid=f"leg:{j.id}")
+                out.append(seg)
+            block = _project(x[[idx[s.node]]], three_d)
+            ax.plot(*block.T, marker="s", markersize=10, markerfacecolor="white", markeredgecolor="black",
+                    markeredgewidth=1.4, linestyle="none", zorder=4, gid=f"slider:{j.id}")
+        if self.mech.dim != 3:
+            return out
+        half = 0.12 * extent
+        for j in self.mech.joints:
+            ends = {"R": ((f"{j.id}.axis", f"axis:{j.id}"),),
+                    "U": ((f"{j.id}.axis", f"axis:{j.id}.1"), (f"{j.id}.axis2", f"axis:{j.id}.2"))}.get(j.type, ())
+            centre = self._centre(j) if ends else None
+            if centre is None:
+                continue
+            c = x[idx[centre]]
+            for end, gid in ends:
+                if end not in idx:
+                    continue
+                a = x[idx[end]] - c
+                a = a / np.linalg.norm(a)
+                seg = _project(np.array([c - half * a, c + half * a]), three_d)
+                ax.plot(*seg.T, color="black", linewidth=1.6, zorder=3, gid=gid)
+                out.append(seg)
+        return out

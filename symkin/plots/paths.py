@@ -18,7 +18,7 @@ import numpy as np
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
 from symkin.paths.trace import Path
-from symkin.plots.mechanism import coordinates, draw_leg_lines, draw_mechanism, is_3d, new_axes, set_equal_3d
+from symkin.plots.mechanism import added_nodes, coordinates, draw_leg_lines, draw_mechanism, is_3d, new_axes, set_equal_3d
 
 __all__ = ["plot_indicators", "plot_traces", "plot_input_output", "plot_event_configurations", "path_figure",
            "save_path_figures", "abscissa", "event_label", "place_labels"]
@@ -284,6 +284,7 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
     if nodes is None:  # the nodes that move along the path (held legs of an F > 1 mechanism do not)
         fixed = set(mech.fixed)
         extent = np.ptp(xyz_all, axis=0).max(axis=1)
+        fixed |= added_nodes(mech)  # a joint's added nodes (R1.axis, P2.line ...) are not the user's
         nodes = [n for k, n in enumerate(names) if n not in fixed and extent[k] > 1e-9 * mech.length_scale]
     elif isinstance(nodes, str):
         nodes = [nodes]
@@ -518,7 +519,7 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
     if len(axes) != len(events):
         raise SymkinError(f"{len(events)} singular event(s) but {len(axes)} axes")
     xyz = np.array([p.coordinates for p in path.points], float)
-    moving = [k for k, n in enumerate(path.node_names) if n not in set(mech.fixed)]
+    moving = [k for k, n in enumerate(path.node_names) if n not in set(mech.fixed) | added_nodes(mech)]
     for k, (ax, e) in enumerate(zip(axes, events), 1):
         three_d = is_3d(ax) and mech.dim == 3
         ncoord = 3 if three_d else 2

@@ -30,6 +30,7 @@ from sympy.polys.rings import ring
 from symkin.curves.corrector import gauss_newton
 from symkin.constraints import SliderLine, slider_constraint
 from symkin.errors import SymkinError
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair
 from symkin.solutions.system import PolynomialSystem, SystemBuilder, closure_system, recover_jacobian
@@ -98,6 +99,8 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
         return dots[n] if n in dots else sp.zeros(mech.dim, 1)
 
     def turn(link):
+        if link == GROUND and link not in mech.link_names:  # the fixed frame of a joint model
+            return sp.Integer(0), 1.0
         i, j = measuring_pair(mech, link)
         d, dd = b.node(names[j]) - b.node(names[i]), vel(names[j]) - vel(names[i])
         m = b.model(names[j]) - b.model(names[i])
@@ -106,7 +109,7 @@ def rate_row(mech: Mechanism, c: InputCoordinate, tol: Tolerances = DEFAULT) -> 
     p = c.parameter
     if p.kind == "rotation" and mech.dim == 2:
         form = turn(p.target[0])[0]
-    elif p.kind == "joint":
+    elif p.kind == "joint" and mech.dim == 2:
         (w1, k1), (w2, k2) = turn(p.target[0]), turn(p.target[1])
         form = k1 * w2 - k2 * w1
     elif p.kind == "rotation":

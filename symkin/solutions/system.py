@@ -45,6 +45,7 @@ import sympy as sp
 from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair, parse_input_label
 from symkin.tolerances import DEFAULT, Tolerances
@@ -271,6 +272,15 @@ def _sliders(b: SystemBuilder, skip: set) -> None:
             b.add(owner, eq.numerator / float(den) if constant else eq.numerator)
 
 
+def _link_vector(b: SystemBuilder, link: str):
+    """A planar link's measuring vector (unknowns) and its model value; +x for the fixed frame of a joint model."""
+    if link == GROUND and link not in b.mech.link_names:
+        return sp.Matrix([1.0, 0.0]), np.array([1.0, 0.0])
+    i, j = measuring_pair(b.mech, link)
+    names = b.mech.node_names
+    return b.node(names[j]) - b.node(names[i]), b.model(names[j]) - b.model(names[i])
+
+
 def _rotate(v, angle: float):
     c, s = math.cos(angle), math.sin(angle)
     return sp.Matrix([c * v[0] - s * v[1], s * v[0] + c * v[1]])
@@ -296,12 +306,8 @@ def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> No
                 continue
             b.add(owner, -math.sin(phi) * d[0] + math.cos(phi) * d[1])
             b.filters.append((owner, math.cos(phi) * d[0] + math.sin(phi) * d[1]))
-        elif p.kind == "joint":
-            (i1, j1), (i2, j2) = measuring_pair(mech, p.target[0]), measuring_pair(mech, p.target[1])
-            d1 = b.node(names[j1]) - b.node(names[i1])
-            d2 = b.node(names[j2]) - b.node(names[i2])
-            m1 = b.model(names[j1]) - b.model(names[i1])
-            m2 = b.model(names[j2]) - b.model(names[i2])
+        elif p.kind == "joint" and dim == 2:
+            (d1, m1), (d2, m2) = (_link_vector(b, link) for link in p.target)
             psi = math.atan2(m2[1], m2[0]) - math.atan2(m1[1], m1[0]) + value
             r = _rotate(d1, psi)
             if reduce:  # both lengths are fixed: d2 = (l2 / l1) R(ψ) d1

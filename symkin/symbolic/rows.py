@@ -36,6 +36,7 @@ import sympy as sp
 from symkin.constraints import Body, SliderMovingLine, constraints_of, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
+from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
 from symkin.numeric.geometric_matrix import affine_frame  # same frame choice as the numeric core
 from symkin.numeric.linalg import affine_hull
@@ -412,6 +413,18 @@ class RowBuilder:
                                             key=lambda b: b[0])), scale))
         return rows
 
+    def _link_rotation(self, link: str, label: str) -> list[SymRow]:
+        """:meth:`rotation_rows`; zero rows for the fixed frame of a joint model (``ground``, no such link)."""
+        if link == GROUND and link not in self._links:
+            return [SymRow(f"{label}.{AXES[c]}", link, (), sp.Integer(1)) for c in range(1 if self.dim == 2 else 3)]
+        return self.rotation_rows(link, label)
+
+    def _axis(self, axis) -> tuple:
+        """A spatial rotation's axis vector (not normalised): two nodes' difference or the vector."""
+        if isinstance(axis[0], str):
+            return self._delta_sym(axis[0], axis[1])
+        return tuple(exact(v) for v in axis)
+
     def parameter_rows(self, param: Parameter) -> list[SymRow]:
         """Rows of one kinematic parameter, in the numeric core's units and row order."""
         labels = param.labels(self.dim)
@@ -421,18 +434,19 @@ class RowBuilder:
             rows = self.rotation_rows(param.target[0], labels[0])
             if dim == 2:
                 return [SymRow(labels[0], r.element, r.blocks, r.scale) for r in rows]
-            axis = param.axis
-            if isinstance(axis[0], str):
-                vec = self._delta_sym(axis[0], axis[1])
-            else:
-                vec = tuple(exact(v) for v in axis)
+            vec = self._axis(param.axis)
             return [_combine(rows, list(vec), labels[0], param.target[0],
                              extra_scale=sp.sqrt(_dot(vec, vec)))]
-        if kind == "joint":
-            r1 = self.rotation_rows(param.target[0], "a")
-            r2 = self.rotation_rows(param.target[1], "b")
-            return [_combine([b, a], [sp.Integer(1), sp.Integer(-1)], lab, f"joint {param.target[0]}-{param.target[1]}")
-                    for a, b, lab in zip(r1, r2, labels)]
+        if kind == "joint":  # the second link's rotation minus the first's (spatial: about the axis)
+            r1 = self._link_rotation(param.target[0], "a")
+            r2 = self._link_rotation(param.target[1], "b")
+            element = f"joint {param.target[0]}-{param.target[1]}"
+            if dim == 2:
+                return [_combine([b, a], [sp.Integer(1), sp.Integer(-1)], lab, element)
+                        for a, b, lab in zip(r1, r2, labels)]
+            vec = list(self._axis(param.axis))
+            return [_combine(r2 + r1, vec + [-v for v in vec], labels[0], element,
+                             extra_scale=sp.sqrt(_dot(vec, vec)))]
         if kind == "twist":
             link = param.target[0]
             first = self.index[self._links[link][0]]

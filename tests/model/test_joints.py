@@ -75,7 +75,8 @@ def test_spatial_kinds_compile_to_axes_cross_and_lines():
     assert {"U1", "U1.axis"} <= set(g.fixed) and "U1.axis2" not in g.fixed
     assert not any(s.id.endswith(".keyed") for s in g.sliders)   # a rod on the line: no key
     rates = dict(g.joint_rates)
-    assert set(rates) >= {"joint:P1", "joint:U1.1"} and "joint:U1.2" not in rates
+    assert set(rates) >= {"joint:P1", "joint:U1.1", "joint:U1.2"}   # U1.2: the cylinder on the cross
+    assert rates["joint:U1.2"].kind == "joint" and rates["joint:U1.2"].axis == ("U1", "U1.axis2")
 
 
 def _two_blocks(jtype: str, **extra) -> dict:
@@ -155,10 +156,12 @@ def test_u_axes_not_perpendicular_and_every_problem_at_once():
     assert "joints[3] (U2): unknown link 'nowhere'" in text
 
 
-def test_spatial_relative_rotation_is_a_named_error():
+def test_spatial_relative_rotation_of_a_rod_on_the_axis_is_a_named_error():
     data = jf.ups_6(_gough_nodes())
-    data["inputs"][0] = {"joint": "U1", "axis": 2}
-    assert "the rotation rate of spatial joint U1 between two moving links" in _bad(lambda d: None, data)
+    data["joints"][1] = {"id": "P1", "type": "C", "links": ["cyl1", "rod1"], "at": data["joints"][1]["at"],
+                         "axis": data["joints"][1]["axis"]}
+    data["inputs"][0] = {"joint": "P1", "motion": "rotation"}
+    assert "the rotation rate of joint P1 is not defined: link rod1 is a rod along" in _bad(lambda d: None, data)
 
 
 def test_bad_joint_exits_2_from_the_cli(tmp_path):
