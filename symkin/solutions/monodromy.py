@@ -27,6 +27,7 @@ import numpy as np
 
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.parameter_homotopy import ParameterFamily, track_parameters
+from symkin.solutions.progress import as_progress
 from symkin.tolerances import Tolerances
 
 __all__ = ["STALL_LOOPS", "StartSolutions", "augment", "start_solutions"]
@@ -83,8 +84,8 @@ def start_solutions(mech: Mechanism, labels, tol: Tolerances, seed: int = 0, cac
         Seed of the random parameters, squaring-up matrix and γ's.
     cache : bool
         Read and write the artefact cache.
-    progress : callable, optional
-        ``progress(loop, found, stalled)`` after each monodromy loop.
+    progress : Progress or callable, optional
+        Told the monodromy loops (:func:`symkin.solutions.progress.as_progress`).
     """
     labels = tuple(labels)
     path = cache_file(mech, labels, tol)
@@ -144,6 +145,8 @@ def _loops(family: ParameterFamily, lam, known, rng, progress) -> tuple[np.ndarr
     """Monodromy loops from ``known`` until the stopping rule (module docstring)."""
     r = family.rank
     stalled, loops = 0, 0
+    progress = as_progress(progress)
+    progress.stage(f"monodromy ({len(known)} solutions)", total=None, unit="loop")
     while stalled < STALL_LOOPS and loops < MAX_LOOPS:
         loops += 1
         l1 = rng.standard_normal(r) + 1j * rng.standard_normal(r)
@@ -157,8 +160,8 @@ def _loops(family: ParameterFamily, lam, known, rng, progress) -> tuple[np.ndarr
         before = len(known)
         known = np.vstack([known, _new(family, lam, u, known)])
         stalled = stalled + 1 if len(known) == before else 0
-        if progress is not None:
-            progress(loops, len(known), stalled)
+        progress.describe(f"monodromy loop {loops}: {len(known)} solutions ({stalled} loops without a new one)")
+        progress.advance(1)
     return known, loops
 
 

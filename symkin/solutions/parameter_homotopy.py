@@ -197,7 +197,7 @@ def _model_u(mech: Mechanism, system) -> np.ndarray:
 
 def track_parameters(family: ParameterFamily, u0: np.ndarray, lam0: np.ndarray, lam1: np.ndarray,
                      rng: np.random.Generator, progress=None) -> Tracked:
-    """Track every row of ``u0`` (solutions at ``λ₀``) to ``λ₁`` (module docstring); ``progress(k)`` after k paths end."""
+    """Track every row of ``u0`` (solutions at ``λ₀``) to ``λ₁`` (module docstring); ``progress(k)`` when k more paths end."""
     u = np.array(np.atleast_2d(u0), dtype=complex)
     p = u.shape[0]
     lam0, lam1 = np.asarray(lam0, complex), np.asarray(lam1, complex)
@@ -265,6 +265,6 @@ def track_parameters(family: ParameterFamily, u0: np.ndarray, lam0: np.ndarray, 
         stop = arrived | big | (h[idx] < MIN_STEP)
         active[idx[stop]] = False
         if progress is not None and int(np.sum(~active)) != done_before:
+            progress(int(np.sum(~active)) - done_before)
             done_before = int(np.sum(~active))
-            progress(done_before)
     return Tracked(u, ok, steps)

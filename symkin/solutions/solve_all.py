@@ -51,7 +51,8 @@ from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
+from symkin.solutions.homotopy import estimate_seconds, require_solver, square_up, total_degree, track
+from symkin.solutions.progress import as_progress, format_seconds
 from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
 from symkin.tolerances import Tolerances
 
@@ -240,13 +241,17 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         seconds to minutes and its queries are not faster than Bertini's on the small models.
     cache : bool
         Read and write the parameter homotopy's start solutions in the artefact cache.
-    progress : callable, optional
-        ``progress(message)`` at each monodromy loop and before each homotopy (e.g. a tqdm
-        description or a throttled line on stderr).
+    progress : Progress or callable, optional
+        A :class:`symkin.solutions.progress.Progress` (a bar over the paths of each homotopy
+        and over the monodromy loops; summary lines without a terminal), or ``progress(message)``
+        told each stage (module :mod:`symkin.solutions.progress`).
     max_paths : int
-        Refuse (with a :class:`SymkinError` that gives the count) a homotopy of more paths
-        than this rather than run for minutes (the total degree of what is left after
-        elimination, e.g. 8192 for the 13 quadratics of the Pratt truss of the catalogue).
+        Refuse (with a :class:`SymkinError` that gives the count and the time it would take,
+        estimated from the first paths: :func:`symkin.solutions.homotopy.estimate_seconds`) a
+        total-degree homotopy of more paths than this rather than run for minutes (the total
+        degree of what is left after elimination, e.g. 8192 for the 13 quadratics of the Pratt
+        truss of the catalogue).  The parameter homotopy's first solve skips its total-degree
+        check above it.
 
     Returns
     -------
@@ -269,12 +274,13 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     if method not in METHODS:
         raise SymkinError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     tol = Tolerances.of(tol)
+    progress = as_progress(progress)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
     system = position_system(mech, values, unit, tol)
     if method == "parameter":
         result = _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real,
-                                  seed, cache, start, progress)
+                                  seed, cache, start, progress, max_paths)
         if result is not None:
             return result
     require_solver()
@@ -282,16 +288,19 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     eqs = square_up(system.reduced, n, seed=seed)
     degree = total_degree(eqs, list(system.solve_for)) if n else 1
     if degree > max_paths:
+        progress.stage(f"estimating the time of {degree} paths", total=None)
+        per_path, measured = estimate_seconds(eqs, list(system.solve_for), seed=seed)
         raise SymkinError(f"{mech.name}: after elimination {n} unknowns and {len(eqs)} equations are left; "
                           f"the total-degree homotopy would track {degree} paths, more than max_paths = "
-                          f"{max_paths}; raise max_paths to track them")
-    if progress is not None:
-        progress(f"total-degree homotopy: tracking {degree} paths")
+                          f"{max_paths}: about {format_seconds(per_path * degree)} (estimated from its first "
+                          f"{measured} paths, {per_path:.2g} s each); raise max_paths to track them")
+    progress.stage("total-degree homotopy", total=degree, unit="path")
     t0 = time.perf_counter()
     if n:
         ends = track(eqs, list(system.solve_for))
     else:
         ends = np.ones((1, 1), complex)
+    progress.advance(degree)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
     points, infinite = [], 0
@@ -312,7 +321,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
 
 
 def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
-                     start, progress=None) -> "Solutions | None":
+                     start, progress, max_paths) -> "Solutions | None":
     """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply."""
     from symkin.solutions.monodromy import start_solutions
     from symkin.solutions.parameter_homotopy import track_parameters
@@ -320,9 +329,7 @@ def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, im
     if not system.unknowns:
         return None
     try:
-        loops = None if progress is None else (
-            lambda k, found, stalled: progress(f"monodromy loop {k}: {found} solutions ({stalled} loops without a new one)"))
-        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=loops)
+        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=progress)
     except SymkinError:
         return None
     if starts is None or not starts.family.rank:
@@ -331,23 +338,31 @@ def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, im
     lam, off = family.parameters(system.equations, list(system.unknowns))
     if off > SPAN_OFF:
         return None  # the query is not in the sampled family (a degenerate sample): total degree
-    if progress is not None:
-        progress(f"parameter homotopy: tracking {len(starts.u)} paths")
+    progress.stage("parameter homotopy", total=len(starts.u), unit="path")
     t0 = time.perf_counter()
-    tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed))
+    tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed),
+                               progress=progress.advance)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
     sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
-    if not starts.cached and bertini_available():
+    n = len(system.solve_for)
+    degree = total_degree(square_up(system.reduced, n, seed=seed), list(system.solve_for)) if n else 1
+    if not starts.cached and bertini_available() and degree > max_paths:
+        progress.note(f"the total-degree check of the first solve ({degree} paths > max_paths = {max_paths}) "
+                      "is skipped: only the component of the first solution is searched")
+    elif not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the
         # total-degree solve at this query finds a solution on every component
+        progress.stage("total-degree check of the first solve", total=degree, unit="path")
         found = _original_solutions(checks, list(tracked.u[tracked.ok]))
         every = _original_solutions(checks, _total_degree_points(system, seed))
+        progress.advance(degree)
         missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
         if missing:
             from symkin.solutions.monodromy import augment
 
-            starts = augment(starts, missing, lam.astype(complex), mech, list(values), tol, seed=seed, cache=cache)
+            starts = augment(starts, missing, lam.astype(complex), mech, list(values), tol, seed=seed, cache=cache,
+                             progress=progress)
             tracked = track_parameters(starts.family, starts.u, starts.lam, lam.astype(complex),
                                        np.random.default_rng(seed))
             track_seconds = time.perf_counter() - t0
