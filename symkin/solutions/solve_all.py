@@ -64,6 +64,9 @@ METHODS = ("parameter", "total-degree")
 SPAN_OFF = 1e-8
 #: two solutions of the original equations are one when closer than this (max-norm, dimensionless)
 DISTINCT = 1e-6
+#: the parameter homotopy's first solve checks its start solutions by a total-degree solve of at most this
+#: many paths (a Bertini path costs milliseconds, 16 in about 0.2 s on a four-bar: the check must not dominate)
+FIRST_CHECK_PATHS = 1024
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
@@ -277,12 +280,12 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     progress = as_progress(progress)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
-    system = position_system(mech, values, unit, tol)
     if method == "parameter":
-        result = _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real,
+        result = _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary, near_real,
                                   seed, cache, start, progress, max_paths)
         if result is not None:
             return result
+    system = position_system(mech, values, unit, tol)
     require_solver()
     n = len(system.solve_for)
     eqs = square_up(system.reduced, n, seed=seed)
@@ -320,13 +323,20 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
                    seconds=time.perf_counter() - start, track_seconds=track_seconds, method="total-degree")
 
 
-def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
+def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
                      start, progress, max_paths) -> "Solutions | None":
-    """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply."""
+    """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply.
+
+    The query builds the original equations and the leg-reduced ones of the family
+    (:func:`symkin.solutions.system.leg_reduced_equations`), not the fully reduced system of
+    :func:`~symkin.solutions.system.position_system` (seconds of sympy on a Gough–Stewart).
+    """
     from symkin.solutions.monodromy import start_solutions
     from symkin.solutions.parameter_homotopy import track_parameters
+    from symkin.solutions.system import leg_reduced_equations, original_equations
 
-    if not system.unknowns:
+    unknowns, equations, filters, center, scale = original_equations(mech, values, unit, tol)
+    if not unknowns:
         return None
     try:
         starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=progress)
@@ -335,38 +345,53 @@ def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, im
     if starts is None or not starts.family.rank:
         return None  # no first solution, or nothing to loop around (no prescribed value)
     family = starts.family
-    lam, off = family.parameters(system.equations, list(system.unknowns))
+    kept, reduced, recover = leg_reduced_equations(mech, values, unit, tol)
+    if family.kept is None or list(kept) != [int(k) for k in family.kept]:
+        return None
+    c = family.coefficient_matrix(reduced, [unknowns[k] for k in kept])
+    if c is None:
+        return None
+    lam, off = family.parameters_of(c)
     if off > SPAN_OFF:
         return None  # the query is not in the sampled family (a degenerate sample): total degree
-    progress.stage("parameter homotopy", total=len(starts.u), unit="path")
+    system = PolynomialSystem(mech, center, scale, tuple(unknowns), tuple(equations), tuple(filters), (), (), None)
+    lam = lam.astype(complex)
+
+    def track(starts_):
+        progress.stage("parameter homotopy", total=len(starts_.u), unit="path")
+        tr = track_parameters(starts_.family, starts_.u, starts_.lam, lam, np.random.default_rng(seed),
+                              progress=progress.advance)
+        return tr, [recover(v) for v in tr.u[tr.ok]]
+
     t0 = time.perf_counter()
-    tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed),
-                               progress=progress.advance)
+    tracked, points = track(starts)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
-    sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
-    n = len(system.solve_for)
-    degree = total_degree(square_up(system.reduced, n, seed=seed), list(system.solve_for)) if n else 1
-    if not starts.cached and bertini_available() and degree > max_paths:
-        progress.note(f"the total-degree check of the first solve ({degree} paths > max_paths = {max_paths}) "
-                      "is skipped: only the component of the first solution is searched")
-    elif not starts.cached and bertini_available():
+    sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
+    if not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the
         # total-degree solve at this query finds a solution on every component
-        progress.stage("total-degree check of the first solve", total=degree, unit="path")
-        found = _original_solutions(checks, list(tracked.u[tracked.ok]))
-        every = _original_solutions(checks, _total_degree_points(system, seed))
-        progress.advance(degree)
-        missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
-        if missing:
-            from symkin.solutions.monodromy import augment
+        full = position_system(mech, values, unit, tol)
+        n = len(full.solve_for)
+        degree = total_degree(square_up(full.reduced, n, seed=seed), list(full.solve_for)) if n else 1
+        limit = min(max_paths, FIRST_CHECK_PATHS)
+        if degree > limit:
+            progress.note(f"the total-degree check of the first solve ({degree} paths > {limit}) is skipped: "
+                          "monodromy searched the component of the model's configuration only")
+        else:
+            progress.stage("total-degree check of the first solve", total=degree, unit="path")
+            found = _original_solutions(checks, points)
+            every = _original_solutions(checks, _total_degree_points(full, seed))
+            progress.advance(degree)
+            missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
+            if missing:
+                from symkin.solutions.monodromy import augment
 
-            starts = augment(starts, missing, lam.astype(complex), mech, list(values), tol, seed=seed, cache=cache,
-                             progress=progress)
-            tracked = track_parameters(starts.family, starts.u, starts.lam, lam.astype(complex),
-                                       np.random.default_rng(seed))
-            track_seconds = time.perf_counter() - t0
-            sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+                starts = augment(starts, [u[family.kept] for u in missing], lam, mech, list(values), tol, seed=seed,
+                                 cache=cache, progress=progress)
+                tracked, points = track(starts)
+                track_seconds = time.perf_counter() - t0
+                sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
     return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
                    at_infinity=0, failed=int(np.sum(~tracked.ok)), seconds=time.perf_counter() - start,
                    track_seconds=track_seconds, method="parameter")
