@@ -25,11 +25,12 @@ def add_arguments(p) -> None:
     p.add_argument("--analyze", action="store_true", help="classify every solution (symkin analyze)")
     p.add_argument("--max-paths", type=int, default=5000,
                    help="refuse a homotopy of more paths than this (default 5000)")
-    p.add_argument("--method", choices=("parameter", "total-degree"), default="total-degree",
+    p.add_argument("--method", choices=("auto", "parameter", "total-degree"), default="auto",
                    help="parameter: track only the solutions of the model's parameter homotopy from generic "
                         "values (made once by monodromy and cached with the model's artefacts; falls back to "
                         "total-degree when it does not apply); total-degree: Bertini 2's total-degree "
-                        "homotopy (the extra symkin[global]) (default total-degree)")
+                        "homotopy (the extra symkin[global]); auto (default): parameter when its start solutions "
+                        "are cached or the total-degree homotopy would track more than 1024 paths")
     p.add_argument("--no-progress", action="store_true",
                    help="no progress bar on the terminal: a one-line summary on stderr every 30 s instead "
                         "(also without a terminal)")

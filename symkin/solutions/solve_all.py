@@ -59,7 +59,10 @@ from symkin.tolerances import Tolerances
 __all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
 #: the ways of solving: a parameter homotopy from cached generic solutions, or Bertini's total-degree homotopy
-METHODS = ("parameter", "total-degree")
+METHODS = ("auto", "parameter", "total-degree")
+#: ``method="auto"`` takes the parameter homotopy when its start solutions are cached, or when the
+#: total-degree homotopy would track more paths than this (benchmarks/README.md, solve_all section)
+AUTO_PATHS = 1024
 #: largest relative distance of a query's coefficients from the parameter family (rounding of the samples)
 SPAN_OFF = 1e-8
 #: two solutions of the original equations are one when closer than this (max-norm, dimensionless)
@@ -215,7 +218,7 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000, method: str = "total-degree", cache: bool = True,
+              max_paths: int = 5000, method: str = "auto", cache: bool = True,
               progress=None) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
@@ -237,11 +240,13 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
     seed : int
         Seed of the random combinations that square up an overconstrained system.
-    method : {"total-degree", "parameter"}
-        Default ``"total-degree"``: Bertini's total-degree homotopy.  ``"parameter"``: the parameter homotopy from cached start solutions (made by monodromy on the first
-        solve; falls back to total degree when it does not apply; module docstring of
-        :mod:`symkin.solutions.monodromy`).  It is not the default yet: its first solve costs
-        seconds to minutes and its queries are not faster than Bertini's on the small models.
+    method : {"auto", "parameter", "total-degree"}
+        ``"parameter"``: the parameter homotopy from cached start solutions (made by monodromy on
+        the first solve; falls back to total degree when it does not apply; module docstring of
+        :mod:`symkin.solutions.monodromy`).  ``"total-degree"``: Bertini's total-degree homotopy.
+        Default ``"auto"``: the parameter homotopy when its start solutions are cached or when the
+        total-degree homotopy would track more than :data:`AUTO_PATHS` paths, else total degree
+        (a first solve of a small model: Bertini's few paths cost less than the monodromy).
     cache : bool
         Read and write the parameter homotopy's start solutions in the artefact cache.
     progress : Progress or callable, optional
@@ -280,12 +285,24 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     progress = as_progress(progress)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
+    system = None
+    if method == "auto":
+        from symkin.solutions.monodromy import cache_file
+
+        if cache and cache_file(mech, list(values), tol).exists():
+            method = "parameter"
+        else:
+            system = position_system(mech, values, unit, tol)
+            n = len(system.solve_for)
+            degree = total_degree(square_up(system.reduced, n, seed=seed), list(system.solve_for)) if n else 1
+            method = "parameter" if degree > AUTO_PATHS else "total-degree"
     if method == "parameter":
         result = _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary, near_real,
                                   seed, cache, start, progress, max_paths)
         if result is not None:
             return result
-    system = position_system(mech, values, unit, tol)
+    if system is None:
+        system = position_system(mech, values, unit, tol)
     require_solver()
     n = len(system.solve_for)
     eqs = square_up(system.reduced, n, seed=seed)
@@ -371,12 +388,17 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
     if not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the
         # total-degree solve at this query finds a solution on every component
-        full = position_system(mech, values, unit, tol)
-        n = len(full.solve_for)
-        degree = total_degree(square_up(full.reduced, n, seed=seed), list(full.solve_for)) if n else 1
+        # the fully reduced system costs seconds of sympy on a large model: first a Bézout bound from the
+        # leg-reduced equations (a linear substitution never raises a degree)
         limit = min(max_paths, FIRST_CHECK_PATHS)
+        degrees = sorted((sp.Poly(e, *[unknowns[k] for k in kept]).total_degree() for _, e in reduced), reverse=True)
+        degree = math.prod(degrees[:len(kept)])
+        if degree <= limit:
+            full = position_system(mech, values, unit, tol)
+            n = len(full.solve_for)
+            degree = total_degree(square_up(full.reduced, n, seed=seed), list(full.solve_for)) if n else 1
         if degree > limit:
-            progress.note(f"the total-degree check of the first solve ({degree} paths > {limit}) is skipped: "
+            progress.note(f"the total-degree check of the first solve (at most {degree} paths > {limit}) is skipped: "
                           "monodromy searched the component of the model's configuration only")
         else:
             progress.stage("total-degree check of the first solve", total=degree, unit="path")
