@@ -133,7 +133,7 @@ def test_solve_all_tells_the_paths_and_the_monodromy_loops(tmp_path, monkeypatch
     assert p.description == "parameter homotopy" and (p.done, p.total) == (6, 6) == (result.paths, result.paths)
     seen = []
     solve_all(m, values, method="total-degree", progress=seen.append)
-    assert seen == [f"total-degree homotopy: {solve_all(m, values).paths} paths"]
+    assert seen == [f"total-degree homotopy: {solve_all(m, values, method='total-degree').paths} paths"]
     seen.clear()
     monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path / "again"))
     solve_all(m, values, method="parameter", progress=seen.append)
