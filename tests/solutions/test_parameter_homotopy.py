@@ -152,3 +152,30 @@ def phc_counts(m, values, tmp_path) -> tuple[int, int]:
     real = re.findall(r"Number of real solutions\s*:\s*(\d+)", text)
     complex_ = re.findall(r"Number of complex solutions\s*:\s*(\d+)", text)
     return int(real[-1]), int(complex_[-1])
+
+
+@pytest.mark.parametrize("scale", [1.0, 1000.0], ids=["m", "mm"])
+def test_3rpr_counts_in_m_and_mm_from_one_set_of_start_solutions(scale, tmp_path, monkeypatch):
+    """6 real (Gosselin, Sefrioui, Richard) and 2 real + 4 complex, both from the same cached 6 start solutions."""
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    m, values = rpr_model()
+    m = m.moved(scale=scale)
+    six = {k: v * scale for k, v in values.items()}
+    first = solve_all(m, six, method="parameter")
+    assert (len(first.solutions), first.complex, first.failed, first.paths) == (6, 0, 0, 6)
+    shorter = dict(six)
+    shorter["slide:s3"] += RPR_S3 * scale
+    again = solve_all(m, shorter)  # method "auto": the start solutions are cached now
+    assert again.method == "parameter" and again.paths == 6
+    assert (len(again.solutions), again.complex, again.failed, again.rejected) == (2, 4, 0, 0)
+
+
+def test_auto_is_total_degree_for_a_first_small_solve_and_parameter_once_cached(tmp_path, monkeypatch):
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    m = fourbar(*GRASHOF["crank-rocker"][0], angle=0.3)
+    values = {"rotation:crank": 0.4}
+    assert solve_all(m, values).method == "total-degree"  # 2 paths, nothing cached
+    made = solve_all(m, values, method="parameter")
+    auto = solve_all(m, values)
+    assert auto.method == "parameter" and (len(auto.solutions), auto.complex) == (len(made.solutions), made.complex)
+    assert solve_all(m, values, method="total-degree").method == "total-degree"  # still selectable
