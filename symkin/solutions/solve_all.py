@@ -289,7 +289,9 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     if method == "auto":
         from symkin.solutions.monodromy import cache_file
 
-        if cache and cache_file(mech, list(values), tol).exists():
+        if not values:
+            method = "total-degree"  # no parameter to move
+        elif cache and cache_file(mech, list(values), tol).exists():
             method = "parameter"
         else:
             system = position_system(mech, values, unit, tol)
@@ -353,7 +355,7 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
     from symkin.solutions.system import leg_reduced_equations, original_equations
 
     unknowns, equations, filters, center, scale = original_equations(mech, values, unit, tol)
-    if not unknowns:
+    if not unknowns or not values:
         return None
     try:
         starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=progress)

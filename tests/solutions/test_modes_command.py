@@ -80,7 +80,8 @@ def test_json_contract_and_text(capsys):
     got = sorted(np.concatenate([s["configuration"]["C"] for s in json.loads(out_rad)["solutions"]]))
     assert got == pytest.approx(sorted(np.concatenate([s["configuration"]["C"] for s in data["solutions"]])),
                                 abs=close)
-    code, text, _ = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--analyze")
+    code, text, _ = run(capsys, "modes", FOURBAR, "--at", "rotation:crank=30", "--analyze",
+                         "--method", "total-degree")
     assert code == 0 and "2 real solution(s)" in text and "2 paths (total-degree) tracked" in text and "analysis: L = 1" in text
 
 

@@ -24,6 +24,12 @@ HERE = Path(__file__).resolve().parent
 RPR_S3 = -10.25
 
 
+@pytest.fixture(autouse=True)
+def own_cache(tmp_path, monkeypatch):
+    """Each test makes its own start solutions (the session's cache would turn other tests' "auto" into parameter)."""
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path / "own-cache"))
+
+
 def fourbar(ground, crank, coupler, rocker, angle=1.0, scale=1.0):
     """A four-bar A(0,0), D(ground,0) with the crank at ``angle`` (rad), assembled in the upper mode; × ``scale``."""
     b = crank * np.array([math.cos(angle), math.sin(angle)])

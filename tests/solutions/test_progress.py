@@ -114,7 +114,7 @@ def test_solve_all_refuses_a_large_homotopy_with_its_estimate():
     seen = []
     with pytest.raises(SymkinError, match=r"would track \d+ paths, more than max_paths = 2: about .* "
                                           r"\(estimated from its first 4 paths, .* s each\)"):
-        solve_all(m, values, max_paths=2, progress=seen.append)
+        solve_all(m, values, max_paths=2, method="total-degree", progress=seen.append)
     assert seen and seen[0].startswith("estimating the time of")
 
 
