@@ -1,7 +1,10 @@
 """The position problem as one family of polynomial systems whose parameters are the prescribed values, and its path tracker.
 
-**The family.**  The original equations of :func:`symkin.solutions.system.position_system`
-(not reduced: their shape does not depend on the values) have coefficients that are affine
+**The family.**  The equations of :func:`symkin.solutions.system.position_system` with only
+the prismatic legs reduced (:func:`~symkin.solutions.system.leg_reduced_equations`: a leg's bar
+node is ``A + l (C − A) / ρ``, its equations become ``|C − A|² = ρ²``; the prescribed angles keep
+their original form; no linear substitution, so their shape does not depend on the values, and no
+sympy elimination per sample or query) have coefficients that are affine
 functions of a few features of the values (a slide or a coordinate enters linearly, an angle
 by its cosine and sine).  :meth:`ParameterFamily.build` samples the equations at the model's
 configuration (all values 0) and at ``2F + 1`` random real values, and takes the affine span
@@ -9,7 +12,10 @@ of the coefficient vectors, ``C(λ) = C₀ + Σ λ_k C_k`` (``λ ∈ ℂ^r``, ``
 every query lies in it (:meth:`ParameterFamily.parameters`), so the straight line between two
 members stays in the family (coefficient-parameter homotopy).  ``F(u; λ) = C(λ) M(u)`` with
 ``M`` the monomials; an overconstrained family is squared up by one fixed random complex
-matrix ``A`` (``n × m``), and every endpoint is checked on the original equations.
+matrix ``A`` (``n × m``), and every endpoint is checked on the original equations (the bar
+nodes recovered).  The Jacobian ``C ∂M/∂u`` is a sparse product (:meth:`ParameterFamily.pencil`:
+each equation has a few monomials, each monomial at most its degree of factors); the general
+6-6 Gough–Stewart's family has 21 unknowns and 21 equations (39 and 45 before the legs' reduction).
 
 **The tracker** (:func:`track_parameters`): all paths at once (numpy, complex), from ``λ₀``
 to ``λ₁`` along ``λ(t) = λ₀ + τ(t)(λ₁ − λ₀)`` with the γ-trick ``τ = γt / (1 + (γ − 1)t)``
@@ -19,9 +25,8 @@ probability one).  Predictor: RK4 on ``du/dt = −H_u⁻¹ H_t``; corrector: the
 (:func:`~symkin.curves.corrector.real_form_batch`), at most ``CORRECTOR_ITERATIONS``
 steps; step control: a step is accepted when the corrector converges (the step grows by
 ``GROW``), else halved; a path whose step falls below ``MIN_STEP``, that takes more than
-``max_steps`` steps (a path crawling past a near-singular point: monodromy gives it up, a query
-counts it as failed), or whose coordinates
-exceed ``DIVERGED`` fails.  No endgame: the endpoints at ``t = 1`` are refined by Newton on the
+``max_steps`` steps (a path crawling past a near-singular point), or whose coordinates exceed
+``DIVERGED`` fails.  No endgame: the endpoints at ``t = 1`` are refined by Newton on the
 original equations by the caller, and those that do not converge are counted as failed.
 """
 from __future__ import annotations
@@ -263,21 +268,6 @@ class ParameterFamily:
             self.__dict__["_factors"] = cached
         return cached
 
-    def _pairs(self):
-        """(monomial, factor position) of every true factor, sorted by its unknown, and where each unknown starts."""
-        cached = self.__dict__.get("_pairs_")
-        if cached is None:
-            f = self.factors
-            n = self.exponents.shape[1]
-            k, d = np.nonzero(f < n)
-            order = np.argsort(f[k, d], kind="stable")
-            k, d = k[order], d[order]
-            var = f[k, d]
-            starts = np.searchsorted(var, np.arange(n))
-            cached = (k, d, starts, bool(np.all(np.bincount(var, minlength=n) > 0)))
-            self.__dict__["_pairs_"] = cached
-        return cached
-
     def products(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``M(u)`` (P, K) and, for each factor of each monomial, the product of the others (P, K, D)."""
         f = self.factors
@@ -290,28 +280,6 @@ class ParameterFamily:
         else:
             others = np.stack([np.prod(np.delete(vals, d, axis=2), axis=2) for d in range(depth)], axis=2)
         return vals[:, :, 0] * others[:, :, 0], others
-
-    def system(self, u: np.ndarray, a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``M(u)`` (P, K), ``H = a M(u)`` (P, m) and ``H_u`` (P, m, n) for coefficients ``a`` (m, K) or (P, m, K).
-
-        The Jacobian is summed over the true factors of each monomial only (a monomial of
-        degree ≤ D depends on at most D unknowns), not as a dense product with ``∂M/∂u``.
-        """
-        mono, others = self.products(u)
-        k, d, starts, complete = self._pairs()
-        n = self.exponents.shape[1]
-        if not complete:
-            _, dm = self.monomials(u)
-            return (mono, np.einsum("pik,pk->pi", a, mono) if a.ndim == 3 else mono @ a.T,
-                    np.einsum("pik,pkj->pij", a, dm) if a.ndim == 3 else np.einsum("ik,pkj->pij", a, dm))
-        vals = others[:, k, d]  # (P, L)
-        if a.ndim == 2:
-            h = mono @ a.T
-            terms = a[:, k][None] * vals[:, None, :]
-        else:
-            h = np.einsum("pik,pk->pi", a, mono)
-            terms = a[:, :, k] * vals[:, None, :]
-        return mono, h, np.add.reduceat(terms, starts, axis=2)[:, :, :n]
 
     def monomials(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``M(u)`` (P, K) and ``∂M/∂u`` (P, K, n) at the rows of ``u`` (P, n): products of factors, product rule."""
@@ -328,13 +296,9 @@ class ParameterFamily:
             dm[:, rows, f[:, d]] += others
         return mono, dm[:, :, :n]
 
-    def evaluate(self, u: np.ndarray, coefficients: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Squared-up ``H`` (P, n) and ``H_u`` (P, n, n) at the rows of ``u`` with coefficients (P, m, K) or (m, K)."""
-        return self.system(u, self.mix @ coefficients)[1:]
-
     def residual(self, u: np.ndarray, lam: np.ndarray) -> np.ndarray:
         """Max-norm of the original (not squared-up) equations at the rows of ``u``."""
-        mono, _ = self.monomials(u)
+        mono, _ = self.products(u)
         return np.max(np.abs(mono @ self.coefficients(lam).T), axis=1)
 
 

@@ -185,3 +185,29 @@ def test_auto_is_total_degree_for_a_first_small_solve_and_parameter_once_cached(
     auto = solve_all(m, values)
     assert auto.method == "parameter" and (len(auto.solutions), auto.complex) == (len(made.solutions), made.complex)
     assert solve_all(m, values, method="total-degree").method == "total-degree"  # still selectable
+
+
+@pytest.mark.parametrize("squared_up", [False, True])
+def test_the_sparse_pencil_is_the_dense_product(squared_up):
+    """H, H_u, ∂H/∂τ of ParameterFamily.pencil against C(τ) M(u) and C(τ) ∂M/∂u written densely."""
+    from symkin.solutions.parameter_homotopy import ParameterFamily
+
+    rng = np.random.default_rng(3)
+    n, k, m = 4, 20, 6 if squared_up else 4
+    e = rng.integers(0, 3, (k, n))
+    e[0] = 0  # a constant term
+    c0 = rng.standard_normal((m, k)) * (rng.uniform(size=(m, k)) > 0.4)
+    cd = rng.standard_normal((m, k)) * (c0 != 0)
+    mix = (rng.standard_normal((n, m)) + 1j * rng.standard_normal((n, m))) if squared_up else np.eye(n, dtype=complex)
+    family = ParameterFamily((), e, c0, cd.reshape(1, -1), mix, np.zeros(n))
+    u = rng.standard_normal((3, n)) + 1j * rng.standard_normal((3, n))
+    tau = rng.standard_normal(3) + 1j * rng.standard_normal(3)
+    h, hu, hd = family.pencil(c0, cd)(u, tau)
+    mono = np.prod(u[:, None, :] ** e[None], axis=2)
+    dm = np.stack([e[None, :, j] * np.prod(u[:, None, :] ** np.maximum(e - np.eye(n, dtype=int)[j], 0)[None], axis=2)
+                   for j in range(n)], axis=2)
+    c = c0[None] + tau[:, None, None] * cd[None]
+    assert np.allclose(h, np.einsum("ij,pjk,pk->pi", mix, c, mono), atol=1e-12)
+    assert np.allclose(hu, np.einsum("ij,pjk,pkl->pil", mix, c, dm), atol=1e-12)
+    assert np.allclose(hd, mono @ cd.T @ mix.T, atol=1e-12)
+    assert np.allclose(family.monomials(u)[0], mono) and np.allclose(family.monomials(u)[1], dm)
