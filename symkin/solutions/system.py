@@ -427,18 +427,10 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
                           "its solutions are not isolated; prescribe other values")
 
     linear = _linear_recovery(b.u, left, pivots, solution)
-    leg_data = [(list(mech.free_nodes).index(leg[2]), leg[3], leg[4], leg[5], leg[6]) for leg in legs]
 
     def recover(v):
         v = np.asarray(v)
-        u = linear(v)
-        for kd, a, c, rho, length in leg_data:
-            xa = np.asarray(b.model(a), dtype=v.dtype) if a not in b.index else \
-                u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
-            kc = b.index[c]
-            xc = u[kc * b.dim:(kc + 1) * b.dim]
-            u[kd * b.dim:(kd + 1) * b.dim] = xa + (length / rho) * (xc - xa)
-        return u
+        return _place_bars(b, mech, legs, linear(v), v.dtype)
 
     return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), tuple(filters),
                             tuple(nonlinear), tuple(left), recover)
@@ -491,21 +483,26 @@ def leg_reduced_equations(mech: Mechanism, values: dict, unit: str = "rad", tol:
     b = SystemBuilder(mech, tol)
     owned, keep_u, legs = _leg_reduced(b, mech, prescribed, reduce_values=False)
     kept = [b.u.index(s) for s in keep_u]
-    free = list(mech.free_nodes)
 
     def recover(v):
         v = np.asarray(v)
         u = np.zeros(len(b.u), dtype=v.dtype)
         u[kept] = v
-        for leg in legs:
-            kd, a, c, rho, length = free.index(leg[2]), leg[3], leg[4], leg[5], leg[6]
-            xa = np.asarray(b.model(a), dtype=v.dtype) if a not in b.index else \
-                u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
-            xc = u[b.index[c] * b.dim:(b.index[c] + 1) * b.dim]
-            u[kd * b.dim:(kd + 1) * b.dim] = xa + (length / rho) * (xc - xa)
-        return u
+        return _place_bars(b, mech, legs, u, v.dtype)
 
     return kept, tuple(owned), recover
+
+
+def _place_bars(b: SystemBuilder, mech: Mechanism, legs, u: np.ndarray, dtype) -> np.ndarray:
+    """``u`` with each reduced leg's bar node placed, ``D = A + l (C − A) / ρ`` (module docstring)."""
+    free = list(mech.free_nodes)
+    for leg in legs:
+        kd, a, c, rho, length = free.index(leg[2]), leg[3], leg[4], leg[5], leg[6]
+        xa = np.asarray(b.model(a), dtype=dtype) if a not in b.index else \
+            u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
+        xc = u[b.index[c] * b.dim:(b.index[c] + 1) * b.dim]
+        u[kd * b.dim:(kd + 1) * b.dim] = xa + (length / rho) * (xc - xa)
+    return u
 
 
 def _reduce(equations, unknowns, tol: Tolerances, name: str):
