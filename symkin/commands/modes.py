@@ -25,13 +25,15 @@ def add_arguments(p) -> None:
     p.add_argument("--analyze", action="store_true", help="classify every solution (symkin analyze)")
     p.add_argument("--max-paths", type=int, default=5000,
                    help="refuse a homotopy of more paths than this (default 5000)")
-    p.add_argument("--method", choices=("parameter", "total-degree"), default="total-degree",
+    p.add_argument("--method", choices=("auto", "parameter", "total-degree"), default="auto",
                    help="parameter: track only the solutions of the model's parameter homotopy from generic "
                         "values (made once by monodromy and cached with the model's artefacts; falls back to "
                         "total-degree when it does not apply); total-degree: Bertini 2's total-degree "
-                        "homotopy (the extra symkin[global]) (default total-degree)")
+                        "homotopy (the extra symkin[global]); auto (default): parameter when its start solutions "
+                        "are cached or the total-degree homotopy would track more than 1024 paths")
     p.add_argument("--no-progress", action="store_true",
-                   help="no progress bar on the terminal: a one-line summary on stderr every 30 s instead")
+                   help="no progress bar on the terminal: a one-line summary on stderr every 30 s instead "
+                        "(also without a terminal)")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the DKP labels (default 1e-8)")
 
@@ -101,49 +103,14 @@ def _text(result) -> str:
     return "\n".join(lines)
 
 
-#: seconds between the summary lines of --no-progress
-SUMMARY_EVERY = 30.0
-
-
-class _Progress:
-    """A tqdm line on stderr when it is a terminal and tqdm is installed, else a line every ``SUMMARY_EVERY`` s."""
-
-    def __init__(self, bar: bool):
-        import sys
-        import time
-
-        self.time, self.stderr = time, sys.stderr
-        self.last = time.monotonic()
-        self.bar = None
-        if bar and sys.stderr.isatty():
-            try:
-                from tqdm import tqdm
-            except ImportError:
-                tqdm = None
-            if tqdm is not None:
-                self.bar = tqdm(desc="modes", unit=" step", file=sys.stderr, leave=False)
-
-    def __call__(self, message: str) -> None:
-        if self.bar is not None:
-            self.bar.set_description_str(message, refresh=False)
-            self.bar.update()
-            return
-        now = self.time.monotonic()
-        if now - self.last >= SUMMARY_EVERY:
-            self.last = now
-            print(f"symkin modes: {message}", file=self.stderr, flush=True)
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.close()
-
-
 def run(args) -> Output:
     from symkin.solutions import solve_all
 
     mech = read_model(args.model)
     values = parse_values(args.at)
-    progress = _Progress(not args.no_progress)
+    from symkin.solutions.progress import Progress
+
+    progress = Progress("modes", bar=not args.no_progress)
     try:
         result = solve_all(mech, values, unit=args.unit, tol=args.tol, analyze=args.analyze,
                            max_paths=args.max_paths, method=args.method, progress=progress)

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import json
-import sys
 import warnings
 
 from symkin.commands import Output, format_outputs
@@ -33,20 +32,11 @@ def add_arguments(p) -> None:
                    help="input values (in --unit, from the model's configuration) at which all assembly modes "
                         "seed the traces, instead of the default ones (faster than the rounds; a circuit whose "
                         "input range holds none of them and no solution of a square system is missed)")
-    p.add_argument("--no-progress", action="store_true", help="no progress line on the terminal")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bar on the terminal: a one-line summary on stderr every 30 s instead "
+                        "(also without a terminal)")
     p.add_argument("--tol", type=tolerance, default=None,
                    help="relative rank tolerance of the events and their classification (default 1e-8)")
-
-
-def _progress(enabled: bool):
-    """A tqdm counter of homotopies and traces on stderr when it is a terminal (never mixed into stdout)."""
-    if not enabled or not sys.stderr.isatty():
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(desc="singularities", unit=" step", file=sys.stderr, leave=False)
 
 
 def _values(text: str) -> list[float]:
@@ -109,17 +99,17 @@ def run(args) -> Output:
         options = {} if args.max_paths is None else {"max_paths": args.max_paths}
         if args.samples is not None:
             options["samples"] = args.samples
-        bar = _progress(not args.no_progress)
-        if bar is not None:
-            options["progress"] = lambda what: (bar.set_description_str(what, refresh=False), bar.update())
+        from symkin.solutions.progress import Progress
+
+        bar = Progress("singularities", bar=not args.no_progress)
+        options["progress"] = bar
         try:
             with warnings.catch_warnings():
                 # the result carries every warning (the text's "warning:" lines, the JSON's "warnings")
                 warnings.simplefilter("ignore", SingularitiesWarning)
                 result = singularities(mech, tol=args.tol, unit=args.unit, **options)
         finally:
-            if bar is not None:
-                bar.close()
+            bar.close()
     except SymkinError as exc:
         raise in_file(exc, args.model)
     message, code = "", 0

@@ -265,7 +265,11 @@ def singularities(mech: Mechanism, *, tol: float | Tolerances | None = None, uni
         sampled.append(v)
         if progress is not None:
             progress(f"solve_all at {drive.label} = {format_value(v, kind, unit)}")
-        sol = solve_all(mech, {drive.label: v}, unit="rad", tol=tolerances, seed=seed)
+        # several seeds (rounds between the traced critical values, or given samples): the parameter
+        # homotopy, whose start solutions are made once; one seed: whichever solve_all finds cheaper
+        repeated = not exact or (samples is not None and len(samples) > 1)
+        sol = solve_all(mech, {drive.label: v}, unit="rad", tol=tolerances, seed=seed,
+                        method="parameter" if repeated else "auto")
         seeds += len(sol.solutions)
         for s_ in sol.solutions:
             search.seed(v, s_.configuration)

@@ -109,3 +109,55 @@ def track(equations, unknowns, endgame: str = "cauchy") -> np.ndarray:
     ends = [[complex(c) for c in v] for v in alg.solutions()]
     return np.array([v for v in ends if len(v) == len(unknowns) + 1], dtype=complex).reshape(
         -1, len(unknowns) + 1)
+
+
+#: paths tracked (one at a time) to estimate the time of a large total-degree homotopy
+ESTIMATE_PATHS = 4
+
+
+def estimate_seconds(equations, unknowns, paths: int = ESTIMATE_PATHS, seed: int = 0,
+                     clock=None) -> tuple[float, int]:
+    """Seconds per path of the total-degree homotopy of ``equations``, measured on its first ``paths`` paths.
+
+    The same homotopy (start system ``u_i^{d_i} = 1``, straight line to ``equations`` with a
+    random complex γ) is tracked one path at a time by symkin's tracker
+    (:func:`symkin.solutions.parameter_homotopy.track_parameters`, which has no endgame and stops
+    a path going to infinity at its divergence bound), so the figure is an estimate of the order
+    of Bertini's time, not a promise.
+
+    Returns
+    -------
+    (float, int)
+        The mean wall time of one path (``clock`` seconds, default :func:`time.perf_counter`) and
+        the number of paths measured.
+    """
+    import time
+
+    from symkin.solutions.parameter_homotopy import ParameterFamily, track_parameters
+
+    clock = time.perf_counter if clock is None else clock
+    unknowns = list(unknowns)
+    n = len(unknowns)
+    polys = [sp.Poly(e, *unknowns) for e in equations]
+    degrees = [max(1, p.total_degree()) for p in polys]
+    target = [p.as_dict() for p in polys]
+    start = [{tuple(d if j == i else 0 for j in range(n)): 1.0, (0,) * n: -1.0} for i, d in enumerate(degrees)]
+    monomials = sorted({m for eq in target + start for m in eq})
+    index = {m: k for k, m in enumerate(monomials)}
+    g = np.zeros((n, len(monomials)))
+    f = np.zeros((n, len(monomials)))
+    for i in range(n):
+        for m, c in start[i].items():
+            g[i, index[m]] = c
+        for m, c in target[i].items():
+            f[i, index[m]] = float(c)
+    direction = (f - g).ravel()
+    norm = float(np.linalg.norm(direction)) or 1.0
+    family = ParameterFamily((), np.array(monomials, int).reshape(len(monomials), n), g,
+                             (direction / norm)[None], np.eye(n, dtype=complex), np.zeros(n))
+    rng = np.random.default_rng(seed)
+    t0 = clock()
+    for _ in range(paths):
+        u0 = np.exp(2j * np.pi * rng.integers(0, degrees) / np.array(degrees))
+        track_parameters(family, u0[None], np.zeros(1), np.array([norm]), rng)
+    return (clock() - t0) / max(paths, 1), paths

@@ -9,12 +9,16 @@ Monodromy: the model's configuration solves the family at ``λ = 0`` (all values
 tracked to ``λ*``.  Then, in each loop, two random complex parameter points ``λ₁``, ``λ₂`` are
 drawn and all solutions known at ``λ*`` are tracked around the triangle ``λ* → λ₁ → λ₂ → λ*``
 (each leg with its own γ); the endpoints that solve the original equations at ``λ*``
-(:data:`VERIFY`) and are new (:data:`DISTINCT`) are added.  **Stopping rule:** the count has not
-grown for ``STALL_LOOPS`` = 20 consecutive loops (a loop that permutes ``N`` solutions misses a
-given one with a probability that falls geometrically; 5 and 10 were too few for the four-bar with a
-prescribed crank angle, whose two half-lines are exchanged only by loops about ``cos² + sin² = 0``),
-or ``MAX_LOOPS`` loops.  No trace test: the count is checked against
-independent solvers in the tests.
+(:data:`VERIFY`) and are new (:data:`DISTINCT`) are added.  **Stopping rule:** the consecutive
+loops without a new solution have tracked ``STALL_PATHS`` = 400 paths (each of the ``N`` known
+solutions tracked around a loop is one chance to land on a missing one; a loop misses a given one
+with a probability that falls geometrically), i.e. ``S = clip(⌈400 / N⌉, MIN_STALL_LOOPS = 10,
+STALL_LOOPS = 20)`` loops: 20 for the four-bar with a prescribed crank angle (5 and 10 loops were
+too few there, its two half-lines are exchanged only by loops about ``cos² + sin² = 0``) and for
+the 3-RPR's 6 solutions, 10 for the general Gough–Stewart's 40 (5 stopped at 39 of 40 once); or
+``MAX_LOOPS`` loops.  No trace test (the parameters enter the equations' coefficients, not as
+linear slices, so the traces are not linear along a line of parameters): the counts are checked
+against closed forms and independent solvers in the tests.
 """
 from __future__ import annotations
 
@@ -27,11 +31,16 @@ import numpy as np
 
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.parameter_homotopy import ParameterFamily, track_parameters
+from symkin.solutions.progress import as_progress
 from symkin.tolerances import Tolerances
 
-__all__ = ["STALL_LOOPS", "StartSolutions", "augment", "start_solutions"]
+__all__ = ["STALL_LOOPS", "StartSolutions", "augment", "stall_loops", "start_solutions"]
 
-#: monodromy stops when this many consecutive loops found no new solution
+#: monodromy stops when the loops since the last new solution tracked at least STALL_PATHS paths, and at
+#: least MIN_STALL_LOOPS loops (module docstring)
+STALL_PATHS = 400
+MIN_STALL_LOOPS = 10
+#: the stall rule's largest number of loops (a model with one or two solutions)
 STALL_LOOPS = 20
 MAX_LOOPS = 200
 #: a point solves the family when the original equations' max-norm is below this (dimensionless)
@@ -39,7 +48,7 @@ VERIFY = 1e-8
 #: two solutions are one when closer than this (max-norm, dimensionless)
 DISTINCT = 1e-6
 #: bump when the cached arrays change meaning
-FORMAT = "1"
+FORMAT = "2"
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,8 +92,8 @@ def start_solutions(mech: Mechanism, labels, tol: Tolerances, seed: int = 0, cac
         Seed of the random parameters, squaring-up matrix and γ's.
     cache : bool
         Read and write the artefact cache.
-    progress : callable, optional
-        ``progress(loop, found, stalled)`` after each monodromy loop.
+    progress : Progress or callable, optional
+        Told the monodromy loops (:func:`symkin.solutions.progress.as_progress`).
     """
     labels = tuple(labels)
     path = cache_file(mech, labels, tol)
@@ -144,7 +153,9 @@ def _loops(family: ParameterFamily, lam, known, rng, progress) -> tuple[np.ndarr
     """Monodromy loops from ``known`` until the stopping rule (module docstring)."""
     r = family.rank
     stalled, loops = 0, 0
-    while stalled < STALL_LOOPS and loops < MAX_LOOPS:
+    progress = as_progress(progress)
+    progress.stage(f"monodromy ({len(known)} solutions)", total=None, unit="loop")
+    while stalled < stall_loops(len(known)) and loops < MAX_LOOPS:
         loops += 1
         l1 = rng.standard_normal(r) + 1j * rng.standard_normal(r)
         l2 = rng.standard_normal(r) + 1j * rng.standard_normal(r)
@@ -157,9 +168,14 @@ def _loops(family: ParameterFamily, lam, known, rng, progress) -> tuple[np.ndarr
         before = len(known)
         known = np.vstack([known, _new(family, lam, u, known)])
         stalled = stalled + 1 if len(known) == before else 0
-        if progress is not None:
-            progress(loops, len(known), stalled)
+        progress.describe(f"monodromy loop {loops}: {len(known)} solutions ({stalled} loops without a new one)")
+        progress.advance(1)
     return known, loops
+
+
+def stall_loops(found: int) -> int:
+    """Loops without a new solution after which monodromy stops, with ``found`` solutions (module docstring)."""
+    return int(min(STALL_LOOPS, max(MIN_STALL_LOOPS, -(-STALL_PATHS // max(found, 1)))))
 
 
 def _save(out: StartSolutions, mech, labels, tol) -> None:

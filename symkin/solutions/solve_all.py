@@ -51,18 +51,25 @@ from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
-from symkin.solutions.homotopy import require_solver, square_up, total_degree, track
+from symkin.solutions.homotopy import estimate_seconds, require_solver, square_up, total_degree, track
+from symkin.solutions.progress import as_progress, format_seconds
 from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
 from symkin.tolerances import Tolerances
 
 __all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
 #: the ways of solving: a parameter homotopy from cached generic solutions, or Bertini's total-degree homotopy
-METHODS = ("parameter", "total-degree")
+METHODS = ("auto", "parameter", "total-degree")
+#: ``method="auto"`` takes the parameter homotopy when its start solutions are cached, or when the
+#: total-degree homotopy would track more paths than this (benchmarks/README.md, solve_all section)
+AUTO_PATHS = 1024
 #: largest relative distance of a query's coefficients from the parameter family (rounding of the samples)
 SPAN_OFF = 1e-8
 #: two solutions of the original equations are one when closer than this (max-norm, dimensionless)
 DISTINCT = 1e-6
+#: the parameter homotopy's first solve checks its start solutions by a total-degree solve of at most this
+#: many paths (a Bertini path costs milliseconds, 16 in about 0.2 s on a four-bar: the check must not dominate)
+FIRST_CHECK_PATHS = 1024
 #: Newton's target and the largest residual accepted (dimensionless, relative to the length scale)
 NEWTON_TARGET = 1e-12
 NEWTON_ACCEPT = 1e-10
@@ -211,7 +218,7 @@ class _Checks:
 
 def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tolerances | None = None,
               analyze: bool = False, imaginary: float = 1e-8, near_real: float = 1e-4, seed: int = 0,
-              max_paths: int = 5000, method: str = "total-degree", cache: bool = True,
+              max_paths: int = 5000, method: str = "auto", cache: bool = True,
               progress=None) -> Solutions:
     """Every real configuration of ``mech`` with the input coordinates ``values`` (``symkin.solve_all``).
 
@@ -233,20 +240,26 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         Thresholds on ``max |Im u|`` in units of the length scale (module docstring).
     seed : int
         Seed of the random combinations that square up an overconstrained system.
-    method : {"total-degree", "parameter"}
-        Default ``"total-degree"``: Bertini's total-degree homotopy.  ``"parameter"``: the parameter homotopy from cached start solutions (made by monodromy on the first
-        solve; falls back to total degree when it does not apply; module docstring of
-        :mod:`symkin.solutions.monodromy`).  It is not the default yet: its first solve costs
-        seconds to minutes and its queries are not faster than Bertini's on the small models.
+    method : {"auto", "parameter", "total-degree"}
+        ``"parameter"``: the parameter homotopy from cached start solutions (made by monodromy on
+        the first solve; falls back to total degree when it does not apply; module docstring of
+        :mod:`symkin.solutions.monodromy`).  ``"total-degree"``: Bertini's total-degree homotopy.
+        Default ``"auto"``: the parameter homotopy when its start solutions are cached or when the
+        total-degree homotopy would track more than :data:`AUTO_PATHS` paths, else total degree
+        (a first solve of a small model: Bertini's few paths cost less than the monodromy).
     cache : bool
         Read and write the parameter homotopy's start solutions in the artefact cache.
-    progress : callable, optional
-        ``progress(message)`` at each monodromy loop and before each homotopy (e.g. a tqdm
-        description or a throttled line on stderr).
+    progress : Progress or callable, optional
+        A :class:`symkin.solutions.progress.Progress` (a bar over the paths of each homotopy
+        and over the monodromy loops; summary lines without a terminal), or ``progress(message)``
+        told each stage (module :mod:`symkin.solutions.progress`).
     max_paths : int
-        Refuse (with a :class:`SymkinError` that gives the count) a homotopy of more paths
-        than this rather than run for minutes (the total degree of what is left after
-        elimination, e.g. 8192 for the 13 quadratics of the Pratt truss of the catalogue).
+        Refuse (with a :class:`SymkinError` that gives the count and the time it would take,
+        estimated from the first paths: :func:`symkin.solutions.homotopy.estimate_seconds`) a
+        total-degree homotopy of more paths than this rather than run for minutes (the total
+        degree of what is left after elimination, e.g. 8192 for the 13 quadratics of the Pratt
+        truss of the catalogue).  The parameter homotopy's first solve skips its total-degree
+        check above it.
 
     Returns
     -------
@@ -269,29 +282,47 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
     if method not in METHODS:
         raise SymkinError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     tol = Tolerances.of(tol)
+    progress = as_progress(progress)
     do_analyze = bool(analyze)
     prescribed = prescribed_coordinates(mech, values, unit)
-    system = position_system(mech, values, unit, tol)
+    system = None
+    if method == "auto":
+        from symkin.solutions.monodromy import cache_file
+
+        if not values:
+            method = "total-degree"  # no parameter to move
+        elif cache and cache_file(mech, list(values), tol).exists():
+            method = "parameter"
+        else:
+            system = position_system(mech, values, unit, tol)
+            n = len(system.solve_for)
+            degree = total_degree(square_up(system.reduced, n, seed=seed), list(system.solve_for)) if n else 1
+            method = "parameter" if degree > AUTO_PATHS else "total-degree"
     if method == "parameter":
-        result = _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real,
-                                  seed, cache, start, progress)
+        result = _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary, near_real,
+                                  seed, cache, start, progress, max_paths)
         if result is not None:
             return result
+    if system is None:
+        system = position_system(mech, values, unit, tol)
     require_solver()
     n = len(system.solve_for)
     eqs = square_up(system.reduced, n, seed=seed)
     degree = total_degree(eqs, list(system.solve_for)) if n else 1
     if degree > max_paths:
+        progress.stage(f"estimating the time of {degree} paths", total=None)
+        per_path, measured = estimate_seconds(eqs, list(system.solve_for), seed=seed)
         raise SymkinError(f"{mech.name}: after elimination {n} unknowns and {len(eqs)} equations are left; "
                           f"the total-degree homotopy would track {degree} paths, more than max_paths = "
-                          f"{max_paths}; raise max_paths to track them")
-    if progress is not None:
-        progress(f"total-degree homotopy: tracking {degree} paths")
+                          f"{max_paths}: about {format_seconds(per_path * degree)} (estimated from its first "
+                          f"{measured} paths, {per_path:.2g} s each); raise max_paths to track them")
+    progress.stage("total-degree homotopy", total=degree, unit="path")
     t0 = time.perf_counter()
     if n:
         ends = track(eqs, list(system.solve_for))
     else:
         ends = np.ones((1, 1), complex)
+    progress.advance(degree)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
     points, infinite = [], 0
@@ -311,47 +342,80 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
                    seconds=time.perf_counter() - start, track_seconds=track_seconds, method="total-degree")
 
 
-def _solve_parameter(mech, values, unit, system, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
-                     start, progress=None) -> "Solutions | None":
-    """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply."""
+def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary, near_real, seed, cache,
+                     start, progress, max_paths) -> "Solutions | None":
+    """The parameter homotopy from the cached (or monodromy) start solutions; None when it does not apply.
+
+    The query builds the original equations and the leg-reduced ones of the family
+    (:func:`symkin.solutions.system.leg_reduced_equations`), not the fully reduced system of
+    :func:`~symkin.solutions.system.position_system` (seconds of sympy on a Gough–Stewart).
+    """
     from symkin.solutions.monodromy import start_solutions
     from symkin.solutions.parameter_homotopy import track_parameters
+    from symkin.solutions.system import leg_reduced_equations, original_equations
 
-    if not system.unknowns:
+    unknowns, equations, filters, center, scale = original_equations(mech, values, unit, tol)
+    if not unknowns or not values:
         return None
     try:
-        loops = None if progress is None else (
-            lambda k, found, stalled: progress(f"monodromy loop {k}: {found} solutions ({stalled} loops without a new one)"))
-        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=loops)
+        starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=progress)
     except SymkinError:
         return None
     if starts is None or not starts.family.rank:
         return None  # no first solution, or nothing to loop around (no prescribed value)
     family = starts.family
-    lam, off = family.parameters(system.equations, list(system.unknowns))
+    kept, reduced, recover = leg_reduced_equations(mech, values, unit, tol)
+    if family.kept is None or list(kept) != [int(k) for k in family.kept]:
+        return None
+    c = family.coefficient_matrix(reduced, [unknowns[k] for k in kept])
+    if c is None:
+        return None
+    lam, off = family.parameters_of(c)
     if off > SPAN_OFF:
         return None  # the query is not in the sampled family (a degenerate sample): total degree
-    if progress is not None:
-        progress(f"parameter homotopy: tracking {len(starts.u)} paths")
+    system = PolynomialSystem(mech, center, scale, tuple(unknowns), tuple(equations), tuple(filters), (), (), None)
+    lam = lam.astype(complex)
+
+    def track(starts_):
+        progress.stage("parameter homotopy", total=len(starts_.u), unit="path")
+        tr = track_parameters(starts_.family, starts_.u, starts_.lam, lam, np.random.default_rng(seed),
+                              progress=progress.advance)
+        return tr, [recover(v) for v in tr.u[tr.ok]]
+
     t0 = time.perf_counter()
-    tracked = track_parameters(family, starts.u, starts.lam, lam.astype(complex), np.random.default_rng(seed))
+    tracked, points = track(starts)
     track_seconds = time.perf_counter() - t0
     checks = _Checks(system, prescribed)
-    sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+    sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
     if not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the
         # total-degree solve at this query finds a solution on every component
-        found = _original_solutions(checks, list(tracked.u[tracked.ok]))
-        every = _original_solutions(checks, _total_degree_points(system, seed))
-        missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
-        if missing:
-            from symkin.solutions.monodromy import augment
+        # the fully reduced system costs seconds of sympy on a large model: first a Bézout bound from the
+        # leg-reduced equations (a linear substitution never raises a degree)
+        limit = min(max_paths, FIRST_CHECK_PATHS)
+        degrees = sorted((sp.Poly(e, *[unknowns[k] for k in kept]).total_degree() for _, e in reduced), reverse=True)
+        degree = math.prod(degrees[:len(kept)])
+        if degree <= limit:
+            full = position_system(mech, values, unit, tol)
+            n = len(full.solve_for)
+            degree = total_degree(square_up(full.reduced, n, seed=seed), list(full.solve_for)) if n else 1
+        if degree > limit:
+            progress.note(f"the total-degree check of the first solve (at most {degree} paths > {limit}) is skipped: "
+                          "monodromy searched the component of the model's configuration only")
+        else:
+            progress.stage("total-degree check of the first solve", total=degree, unit="path")
+            found = _original_solutions(checks, points)
+            every = _original_solutions(checks, _total_degree_points(full, seed))
+            progress.advance(degree)
+            missing = [u for u in every if _duplicate(u, found, DISTINCT) is None]
+            if missing:
+                from symkin.solutions.monodromy import augment
 
-            starts = augment(starts, missing, lam.astype(complex), mech, list(values), tol, seed=seed, cache=cache)
-            tracked = track_parameters(starts.family, starts.u, starts.lam, lam.astype(complex),
-                                       np.random.default_rng(seed))
-            track_seconds = time.perf_counter() - t0
-            sorted_ = sort_endpoints(checks, list(tracked.u[tracked.ok]), tol, imaginary, near_real)
+                starts = augment(starts, [u[family.kept] for u in missing], lam, mech, list(values), tol, seed=seed,
+                                 cache=cache, progress=progress)
+                tracked, points = track(starts)
+                track_seconds = time.perf_counter() - t0
+                sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
     return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
                    at_infinity=0, failed=int(np.sum(~tracked.ok)), seconds=time.perf_counter() - start,
                    track_seconds=track_seconds, method="parameter")

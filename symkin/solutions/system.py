@@ -417,6 +417,37 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     filters = list(b.filters)
 
     # the reduced system: prismatic legs, then linear substitution
+    owned, keep_u, legs = _leg_reduced(b, mech, prescribed)
+    reduced = [e for _, e in owned]
+
+    pivots, solution, left, nonlinear = _reduce(reduced, keep_u, tol, mech.name)
+    nonlinear = [e for e in nonlinear if e.free_symbols]
+    if len(nonlinear) < len(left):
+        raise SymkinError(f"{mech.name}: with the values {', '.join(values)} the position problem keeps "
+                          f"{len(left) - len(nonlinear)} free parameter(s) (more unknowns than equations): "
+                          "its solutions are not isolated; prescribe other values")
+
+    linear = _linear_recovery(b.u, left, pivots, solution)
+
+    def recover(v):
+        v = np.asarray(v)
+        return _place_bars(b, mech, legs, linear(v), v.dtype)
+
+    return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), tuple(filters),
+                            tuple(nonlinear), tuple(left), recover)
+
+
+def original_equations(mech: Mechanism, values: dict, unit: str = "rad", tol: Tolerances = DEFAULT):
+    """``(unknowns, equations, filters, center, scale)`` of :func:`position_system` without its reduction (fast)."""
+    b = SystemBuilder(mech, Tolerances.of(tol))
+    _bodies(b)
+    _sliders(b, set())
+    _values(b, prescribed_coordinates(mech, values, unit), set())
+    return tuple(b.u), tuple(b.equations), tuple(b.filters), b.center, b.scale
+
+
+def _leg_reduced(b: SystemBuilder, mech: Mechanism, prescribed, reduce_values: bool = True):
+    """The equations with the prismatic legs reduced (module docstring), the unknowns kept, the legs."""
     legs = _legs(b, prescribed)
     b.equations, b.filters = [], []
     skip_links = {leg[1] for leg in legs}
@@ -427,40 +458,52 @@ def position_system(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     _bodies(b)
     b.mech = mech
     _sliders(b, skip_sliders)
-    _values(b, prescribed, skip_values, reduce=True)
-    reduced = [e for _, e in b.equations]
+    _values(b, prescribed, skip_values, reduce=reduce_values)
+    owned = list(b.equations)
     for leg in legs:
         r = b.node(leg[4]) - b.node(leg[3])
-        reduced.append(sp.expand(_dot(r, r) - leg[5] ** 2))
+        owned.append((f"leg:{leg[1]}", sp.expand(_dot(r, r) - leg[5] ** 2)))
     removed = set()
     for leg in legs:
         k = list(mech.free_nodes).index(leg[2])
         removed |= set(b.u[k * b.dim:(k + 1) * b.dim])
-    keep_u = [s for s in b.u if s not in removed]
+    return owned, [s for s in b.u if s not in removed], legs
 
-    pivots, solution, left, nonlinear = _reduce(reduced, keep_u, tol, mech.name)
-    nonlinear = [e for e in nonlinear if e.free_symbols]
-    if len(nonlinear) < len(left):
-        raise SymkinError(f"{mech.name}: with the values {', '.join(values)} the position problem keeps "
-                          f"{len(left) - len(nonlinear)} free parameter(s) (more unknowns than equations): "
-                          "its solutions are not isolated; prescribe other values")
 
-    linear = _linear_recovery(b.u, left, pivots, solution)
-    leg_data = [(list(mech.free_nodes).index(leg[2]), leg[3], leg[4], leg[5], leg[6]) for leg in legs]
+def leg_reduced_equations(mech: Mechanism, values: dict, unit: str = "rad", tol: Tolerances = DEFAULT):
+    """``(kept, equations, recover)``: :func:`position_system`'s equations after the reduction of prismatic legs only.
+
+    ``kept`` the indices of the unknowns left (into :attr:`PolynomialSystem.unknowns`),
+    ``equations`` ``(owner, expr)`` in them, ``recover(v)`` the full ``u`` from their values.
+    The prescribed angles keep their original equations (a link angle is not made linear with
+    the link's length: with cos θ and sin θ as independent parameters the system would be
+    inconsistent off the circle).
+    """
+    tol = Tolerances.of(tol)
+    prescribed = prescribed_coordinates(mech, values, unit)
+    b = SystemBuilder(mech, tol)
+    owned, keep_u, legs = _leg_reduced(b, mech, prescribed, reduce_values=False)
+    kept = [b.u.index(s) for s in keep_u]
 
     def recover(v):
         v = np.asarray(v)
-        u = linear(v)
-        for kd, a, c, rho, length in leg_data:
-            xa = np.asarray(b.model(a), dtype=v.dtype) if a not in b.index else \
-                u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
-            kc = b.index[c]
-            xc = u[kc * b.dim:(kc + 1) * b.dim]
-            u[kd * b.dim:(kd + 1) * b.dim] = xa + (length / rho) * (xc - xa)
-        return u
+        u = np.zeros(len(b.u), dtype=v.dtype)
+        u[kept] = v
+        return _place_bars(b, mech, legs, u, v.dtype)
 
-    return PolynomialSystem(mech, b.center, b.scale, tuple(b.u), tuple(original), tuple(filters),
-                            tuple(nonlinear), tuple(left), recover)
+    return kept, tuple(owned), recover
+
+
+def _place_bars(b: SystemBuilder, mech: Mechanism, legs, u: np.ndarray, dtype) -> np.ndarray:
+    """``u`` with each reduced leg's bar node placed, ``D = A + l (C − A) / ρ`` (module docstring)."""
+    free = list(mech.free_nodes)
+    for leg in legs:
+        kd, a, c, rho, length = free.index(leg[2]), leg[3], leg[4], leg[5], leg[6]
+        xa = np.asarray(b.model(a), dtype=dtype) if a not in b.index else \
+            u[b.index[a] * b.dim:(b.index[a] + 1) * b.dim]
+        xc = u[b.index[c] * b.dim:(b.index[c] + 1) * b.dim]
+        u[kd * b.dim:(kd + 1) * b.dim] = xa + (length / rho) * (xc - xa)
+    return u
 
 
 def _reduce(equations, unknowns, tol: Tolerances, name: str):

@@ -295,3 +295,26 @@ def test_circuits_and_the_cross_check_report(cli_json, turning, butterfly):
     assert any(b["stop_reason"] == "returned" for b in branches)
     for b in branches:
         assert b["closed"] or any(f"branch {b['branch']} " in w and "did not close" in w for w in cli_json["warnings"])
+
+
+@pytest.mark.slow
+def test_without_msolve_the_default_rounds_give_the_same_answer(monkeypatch, tmp_path, butterfly, turning):
+    """No msolve, default seeds: rounds of solve_all (parameter homotopies from one set of start solutions)."""
+    import warnings
+
+    import symkin.solutions.exact as exact
+    from symkin.solutions.circuits import singularities
+
+    monkeypatch.setattr(exact, "msolve_executable", lambda: None)
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = singularities(read_model(MODEL), unit="deg")
+    got = [s for s in r.to_dict()["singularities"] if "DKP-input" in s["types"]]
+    expected = sorted(wrap_deg(math.degrees(t - butterfly.theta_s)) for t in turning)
+    assert len(r.circuits) == 2 and len(got) == len(expected) == 16
+    for e in expected:
+        assert min(abs(wrap_deg(s["input"] - e)) for s in got) <= 1e-9
+    assert sum("IM" in s.types for s in r.singularities) == 2  # the tangent contacts T1, T2
+    assert r.agree is None and len(r.samples) > 6
+    assert len(list((tmp_path / "parameter-homotopy").glob("*.npz"))) == 1

@@ -24,6 +24,12 @@ HERE = Path(__file__).resolve().parent
 RPR_S3 = -10.25
 
 
+@pytest.fixture(autouse=True)
+def own_cache(tmp_path, monkeypatch):
+    """Each test makes its own start solutions (the session's cache would turn other tests' "auto" into parameter)."""
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path / "own-cache"))
+
+
 def fourbar(ground, crank, coupler, rocker, angle=1.0, scale=1.0):
     """A four-bar A(0,0), D(ground,0) with the crank at ``angle`` (rad), assembled in the upper mode; × ``scale``."""
     b = crank * np.array([math.cos(angle), math.sin(angle)])
@@ -111,10 +117,14 @@ def test_planar_gough_stewart_against_phcpack(tmp_path):
     m = read_model(HERE.parent / "workspace" / "models" / "gough_stewart.toml")
     values = {f"slide:s{i}": 0.0 for i in range(1, 7)}
     values["slide:s1"] = 0.05
-    # total degree: the parameter homotopy's first solve of this 39-unknown family takes too long (issue 17)
     result = solve_all(m, values, method="total-degree")
+    # the parameter homotopy: 28 start solutions by monodromy on the leg-reduced family (21 unknowns)
+    par = solve_all(m, values, method="parameter")
     real, complex_ = phc_counts(m, values, tmp_path)
     assert (len(result.solutions), result.complex) == (real, complex_) == (4, 24)
+    assert (len(par.solutions), par.complex, par.paths, par.failed) == (4, 24, 28, 0)
+    assert_same_configurations(par, [np.concatenate([s.configuration[n] for n in ("C1", "C2", "C3")])
+                                     for s in result.solutions], ["C1", "C2", "C3"])
 
 
 def phc_counts(m, values, tmp_path) -> tuple[int, int]:
@@ -152,3 +162,56 @@ def phc_counts(m, values, tmp_path) -> tuple[int, int]:
     real = re.findall(r"Number of real solutions\s*:\s*(\d+)", text)
     complex_ = re.findall(r"Number of complex solutions\s*:\s*(\d+)", text)
     return int(real[-1]), int(complex_[-1])
+
+
+@pytest.mark.parametrize("scale", [1.0, 1000.0], ids=["m", "mm"])
+def test_3rpr_counts_in_m_and_mm_from_one_set_of_start_solutions(scale, tmp_path, monkeypatch):
+    """6 real (Gosselin, Sefrioui, Richard) and 2 real + 4 complex, both from the same cached 6 start solutions."""
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    m, values = rpr_model()
+    m = m.moved(scale=scale)
+    six = {k: v * scale for k, v in values.items()}
+    first = solve_all(m, six, method="parameter")
+    assert (len(first.solutions), first.complex, first.failed, first.paths) == (6, 0, 0, 6)
+    shorter = dict(six)
+    shorter["slide:s3"] += RPR_S3 * scale
+    again = solve_all(m, shorter)  # method "auto": the start solutions are cached now
+    assert again.method == "parameter" and again.paths == 6
+    assert (len(again.solutions), again.complex, again.failed, again.rejected) == (2, 4, 0, 0)
+
+
+def test_auto_is_total_degree_for_a_first_small_solve_and_parameter_once_cached(tmp_path, monkeypatch):
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    m = fourbar(*GRASHOF["crank-rocker"][0], angle=0.3)
+    values = {"rotation:crank": 0.4}
+    assert solve_all(m, values).method == "total-degree"  # 2 paths, nothing cached
+    made = solve_all(m, values, method="parameter")
+    auto = solve_all(m, values)
+    assert auto.method == "parameter" and (len(auto.solutions), auto.complex) == (len(made.solutions), made.complex)
+    assert solve_all(m, values, method="total-degree").method == "total-degree"  # still selectable
+
+
+@pytest.mark.parametrize("squared_up", [False, True])
+def test_the_sparse_pencil_is_the_dense_product(squared_up):
+    """H, H_u, ∂H/∂τ of ParameterFamily.pencil against C(τ) M(u) and C(τ) ∂M/∂u written densely."""
+    from symkin.solutions.parameter_homotopy import ParameterFamily
+
+    rng = np.random.default_rng(3)
+    n, k, m = 4, 20, 6 if squared_up else 4
+    e = rng.integers(0, 3, (k, n))
+    e[0] = 0  # a constant term
+    c0 = rng.standard_normal((m, k)) * (rng.uniform(size=(m, k)) > 0.4)
+    cd = rng.standard_normal((m, k)) * (c0 != 0)
+    mix = (rng.standard_normal((n, m)) + 1j * rng.standard_normal((n, m))) if squared_up else np.eye(n, dtype=complex)
+    family = ParameterFamily((), e, c0, cd.reshape(1, -1), mix, np.zeros(n))
+    u = rng.standard_normal((3, n)) + 1j * rng.standard_normal((3, n))
+    tau = rng.standard_normal(3) + 1j * rng.standard_normal(3)
+    h, hu, hd = family.pencil(c0, cd)(u, tau)
+    mono = np.prod(u[:, None, :] ** e[None], axis=2)
+    dm = np.stack([e[None, :, j] * np.prod(u[:, None, :] ** np.maximum(e - np.eye(n, dtype=int)[j], 0)[None], axis=2)
+                   for j in range(n)], axis=2)
+    c = c0[None] + tau[:, None, None] * cd[None]
+    assert np.allclose(h, np.einsum("ij,pjk,pk->pi", mix, c, mono), atol=1e-12)
+    assert np.allclose(hu, np.einsum("ij,pjk,pkl->pil", mix, c, dm), atol=1e-12)
+    assert np.allclose(hd, mono @ cd.T @ mix.T, atol=1e-12)
+    assert np.allclose(family.monomials(u)[0], mono) and np.allclose(family.monomials(u)[1], dm)

@@ -363,10 +363,13 @@ def test_without_the_square_systems_the_rounds_find_every_circuit(name, capsys, 
     import symkin.solutions.exact as exact
 
     monkeypatch.setattr(exact, "msolve_executable", lambda: None)
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path / "cache"))
     (g, a, b, c), circuits = GRASHOF[name]
     m = fourbar(g, a, b, c, name=name)
     with pytest.warns(SingularitiesWarning, match="NOT cross-checked"):
         r = singularities(m, max_paths=0)
+    # the rounds' repeated solve_all calls are parameter homotopies from start solutions made once
+    assert len(list((tmp_path / "cache" / "parameter-homotopy").glob("*.npz"))) == 1
     assert len(r.circuits) == circuits and all(c_.closed for c_ in r.circuits)
     expected = [(k, np.concatenate([B, C])) for k, B, C in collinear_configurations(g, a, b, c)]
     got = [np.concatenate([s.configuration[n] for n in m.free_nodes]) for s in r.singularities]
