@@ -10,7 +10,8 @@ import numpy as np
 from scipy.linalg import lapack
 
 __all__ = ["svd_factors", "singular_values", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
-           "normal_basis", "affine_hull", "independent_rows"]
+           "normal_basis", "affine_hull", "independent_rows", "sparse_small_singular", "sparse_dependent_rows",
+           "sparse_fundamental_stresses"]
 
 
 def svd_factors(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -160,3 +161,140 @@ def independent_rows(a: np.ndarray, tol: float, count: int | None = None) -> tup
     rank = int(np.count_nonzero(d > tol * d[0])) if d.size and d[0] > 0 else 0
     take = rank if count is None else min(rank, count)
     return tuple(sorted(int(k) for k in piv[:take]))
+
+
+# ---------------------------------------------------------------------- sparse (large models, issue 19)
+def _orthonormal_columns(q: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the span of ``q``'s columns (thin QR; ``q`` of full column rank)."""
+    return np.linalg.qr(q)[0] if q.shape[1] else q
+
+
+def sparse_small_singular(a, tol: float, window: float, dense_below: int = 8,
+                          max_vectors: int = 2000) -> tuple[float, np.ndarray, np.ndarray, int]:
+    """Rank, the smallest singular values and the right null space of a sparse ``a`` (m, n).
+
+    Returns ``(σ_max, σ_small, null, rank)``: ``σ_small`` ascending (every singular value of
+    ``a`` at or below ``window · σ_max``, plus the next one, structural zeros of a wide
+    ``a`` included), ``null`` (n, L) orthonormal, ``rank = n − L`` with
+    ``L = #{σ <= tol · σ_max}`` — the dense path's decision (:func:`svd_null_space`).
+
+    Method: ``σ_max²`` is the largest eigenvalue of ``G = aᵀa`` (Lanczos, ARPACK); the
+    eigenvectors of the smallest eigenvalues of ``G`` come from Lanczos in shift-invert
+    mode, with ``G + s I`` (``s = window² · σ_max²``) factorised once by SuperLU in a
+    fill-reducing symmetric order; their number grows (doubling) until the largest found
+    is above ``window² · σ_max²``.  Eigenvalues of ``G`` are accurate to ``ε · σ_max²``
+    only, i.e. ``σ`` to ``√ε · σ_max`` — the size of the default rank tolerance — so they
+    decide nothing: the singular values are those of ``a Q`` (``Q`` the orthonormal basis
+    of the eigenvectors found, a Rayleigh–Ritz step on ``a`` itself), accurate to
+    ``ε · σ_max`` like the dense SVD's.  Every singular value not found is above
+    ``window · σ_max``, far above any rank threshold.  Small ``n`` (``<= dense_below``):
+    the eigenvectors of ``G`` by a dense ``eigh``, then the same Rayleigh–Ritz step.
+    More than ``max_vectors`` singular values below the window raise ``MemoryError``
+    (the motion space would be a dense n × L matrix; the caller refuses the model).
+    """
+    import scipy.sparse as sps
+    import scipy.sparse.linalg as spla
+    from scipy.linalg import eigh
+
+    a = sps.csr_matrix(a)
+    m, n = a.shape
+    if n == 0:
+        return 0.0, np.zeros(0), np.zeros((0, 0)), 0
+    g = (a.T @ a).tocsc()
+    if n <= dense_below:
+        w, vecs = eigh(g.toarray())
+        lmax = float(max(w[-1], 0.0))
+        q = vecs[:, : min(n, int(np.count_nonzero(w <= window * window * lmax)) + 1)]
+    else:
+        lmax = float(spla.eigsh(g, k=1, which="LA", return_eigenvectors=False)[0])
+        if lmax <= 0.0:  # no constraint touches a free coordinate
+            return 0.0, np.zeros(n), np.eye(n), 0
+        shift = window * window * lmax
+        lu = spla.splu((g + shift * sps.identity(n, format="csc")).tocsc(), permc_spec="MMD_AT_PLUS_A",
+                       diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        op = spla.LinearOperator((n, n), matvec=lu.solve, dtype=float)
+        k = min(8, n - 1)
+        while True:
+            w, vecs = spla.eigsh(g, k=k, sigma=-shift, which="LM", OPinv=op)
+            if w.max() > window * window * lmax or k >= n - 1:
+                break
+            if k >= max_vectors:
+                raise MemoryError(f"more than {max_vectors} singular values below {window:g} × the largest")
+            k = min(2 * k, n - 1)
+        if k >= n - 1 and w.max() <= window * window * lmax:  # all of them: the dense eigenproblem
+            w, vecs = eigh(g.toarray())
+        q = vecs
+    q = _orthonormal_columns(q)
+    _, s, vt = np.linalg.svd(np.asarray(a @ q), full_matrices=False) if m else (None, np.zeros(q.shape[1]), np.eye(q.shape[1]))
+    s_full = np.zeros(q.shape[1])
+    s_full[: s.size] = s  # a Ritz basis wider than a: structural zeros
+    if s.size < q.shape[1]:
+        vt = np.vstack([vt, _complement_rows(vt, q.shape[1])])
+    smax = float(np.sqrt(lmax))
+    order = np.argsort(s_full, kind="stable")
+    s_asc = s_full[order]
+    v = (q @ vt.T)[:, order]
+    null_count = int(np.count_nonzero(s_asc <= tol * smax))
+    return smax, s_asc, v[:, :null_count].copy(), n - null_count
+
+
+def _complement_rows(vt: np.ndarray, k: int) -> np.ndarray:
+    """Orthonormal rows completing the orthonormal rows ``vt`` to a basis of R^k."""
+    full = np.linalg.svd(vt, full_matrices=True)[2] if vt.size else np.eye(k)
+    return full[vt.shape[0]:]
+
+
+def sparse_dependent_rows(a, count: int, regularisation: float) -> np.ndarray:
+    """Indices of ``count`` rows of the sparse ``a`` that depend on the others (ascending).
+
+    The Gram matrix ``a aᵀ + δ I`` (``δ = regularisation``, rows of ``a`` of order one) is
+    factorised ``L D Lᵀ`` by SuperLU in a fill-reducing symmetric order with diagonal
+    pivots: ``D_kk − δ`` is the squared distance of row k from the rows before it in that
+    order (Cholesky is Gram–Schmidt), zero for a dependent row.  The ``count`` smallest
+    pivots (``count = m − rank``, the rank decided by :func:`sparse_small_singular`) are the
+    dependent rows; the caller verifies the stresses they give.
+    """
+    import scipy.sparse as sps
+    import scipy.sparse.linalg as spla
+
+    a = sps.csr_matrix(a)
+    m = a.shape[0]
+    if count <= 0:
+        return np.zeros(0, dtype=int)
+    gram = (a @ a.T + regularisation * sps.identity(m, format="csr")).tocsc()
+    lu = spla.splu(gram, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    d = np.abs(lu.U.diagonal())
+    position = np.argsort(d, kind="stable")[:count]
+    return np.sort(np.argsort(lu.perm_r)[position])
+
+
+def sparse_fundamental_stresses(a, dependent: np.ndarray, null: np.ndarray):
+    """The fundamental left null vectors of the sparse ``a`` (m, n) for its ``dependent`` rows.
+
+    With ``B`` the other rows (``rank`` of them) and ``C`` the columns kept after dropping
+    ``L = null.shape[1]`` columns on which the right null space is nonsingular (pivoted QR of
+    ``nullᵀ``), ``B[:, C]`` is square and nonsingular, and for each dependent row k,
+    ``y = B[:, C]⁻ᵀ a[k, C]ᵀ`` gives ``ω = e_k − Σ y_b e_b`` with ``ωᵀ a = 0`` (row k is
+    ``yᵀ B``).  Yields ``(k, rows, values)`` one dependent row at a time (``rows`` the
+    basis rows' indices, ``values = −y``), so that a caller keeps only what it needs;
+    SuperLU factorises ``B[:, C]ᵀ`` once.
+    """
+    import scipy.sparse as sps
+    import scipy.sparse.linalg as spla
+    from scipy.linalg import qr
+
+    a = sps.csr_matrix(a)
+    m, n = a.shape
+    keep = np.arange(n)
+    if null.shape[1]:
+        piv = qr(null.T, pivoting=True, mode="r")[1]
+        keep = np.setdiff1d(keep, piv[: null.shape[1]])
+    basis = np.setdiff1d(np.arange(m), dependent)
+    b = a[basis][:, keep]
+    lu = spla.splu(b.T.tocsc())
+    dep = a[dependent][:, keep].tocsr()
+    for r, k in enumerate(dependent):
+        rhs = np.zeros(keep.size)
+        lo, hi = dep.indptr[r], dep.indptr[r + 1]
+        rhs[dep.indices[lo:hi]] = dep.data[lo:hi]
+        yield int(k), basis, -lu.solve(rhs)

@@ -1,0 +1,180 @@
+"""Large models: the motion space and the self-stresses from sparse rows (issue 19).
+
+The dense path (:mod:`symkin.analysis.motion_space`, :mod:`symkin.analysis.statics`) takes
+one full SVD of the constraint matrix in the paper's pairwise form: exact and simple, but
+cubic in the model's size.  A model above the **size switch** (:func:`is_large`: more than
+:data:`LARGE_COORDINATES` free coordinates, or more than :data:`LARGE_ROWS` rows in the
+pairwise form) takes this path instead:
+
+* the rows are :func:`symkin.numeric.sparse_rows.sparse_constraint_rows` (the same bar and
+  slider rows; a rigid body of k nodes in O(k) rows);
+* the rank, the singular values near zero and the motion space come from
+  :func:`symkin.numeric.linalg.sparse_small_singular` (Lanczos on ``JᵀJ`` in shift-invert
+  mode, then a Rayleigh–Ritz step on ``J``): the rank is decided, as on the dense path, by
+  ``σ <= rank · σ_max`` on singular values of ``J`` accurate to rounding;
+* the self-stresses are the **fundamental** stresses of the dependent rows
+  (:func:`symkin.numeric.linalg.sparse_dependent_rows`,
+  :func:`~symkin.numeric.linalg.sparse_fundamental_stresses`): one per dependent row ``k``,
+  with coefficient 1 on row k, each checked (``‖Jᵀω‖ <= rank · σ_max · ‖ω‖``, the rank
+  test).  They span the same space as the dense path's canonical (reduced row echelon)
+  stresses, but are not that canonical basis: the echelon form of thousands of stresses
+  is dense, theirs stay as sparse as the structure lets them (a stress local to a few bars
+  stays on them).
+
+The count of self-stresses is the dense path's: rows touching a free coordinate, minus the
+rank, minus the modelling artefacts (here: the rows of a body made dependent on its own
+rows by fixed nodes, and the second copy of a node pair shared by two simplex bodies).
+A model that this path cannot take — two bodies, one of more than ``dim + 1`` nodes,
+sharing two nodes (the stress of the shared pair has no row of its own in the O(k) form) —
+goes to the dense path if its size allows (:data:`symkin.model.validation.DENSE_ANALYSIS_BYTES`),
+else it is refused with its size and the limit.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sps
+
+from symkin.errors import ModelError, Problem
+from symkin.model.mechanism import Mechanism
+from symkin.model.validation import dense_size_problem
+from symkin.numeric.linalg import (left_null_space, sparse_dependent_rows, sparse_fundamental_stresses,
+                                   sparse_small_singular)
+from symkin.numeric.sparse_rows import pairwise_row_count, shared_body_pairs, sparse_constraint_rows
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["LARGE_COORDINATES", "LARGE_ROWS", "MAX_MOTIONS", "is_large", "check_dense_size", "sparse_rows",
+           "sparse_motion_fields", "sparse_stresses"]
+
+#: free coordinates above which :func:`symkin.analyze` takes the sparse path (a dense SVD of
+#: 400 × 600 takes ~0.1 s; the sparse path is faster above ~300 coordinates and its cost is
+#: about linear, the dense one cubic)
+LARGE_COORDINATES = 400
+#: rows of the paper's pairwise form above which the sparse path is taken (a body of 64+ nodes)
+LARGE_ROWS = 2000
+#: singular values below the window (:attr:`Tolerances.sparse_window`) beyond which a large
+#: model is refused: its motion space would be a dense (coordinates × motions) matrix
+MAX_MOTIONS = 2000
+
+
+def _free_count(mech: Mechanism) -> int:
+    return mech.dim * (len(mech.nodes) - len(set(mech.fixed)))
+
+
+def _not_sparse(mech: Mechanism) -> str | None:
+    """Why the sparse path cannot take ``mech`` (None when it can)."""
+    shared = [(a, b) for a, b in shared_body_pairs(mech)
+              if max(len(mech.link_nodes(a)), len(mech.link_nodes(b))) > mech.dim + 1]
+    if shared:
+        a, b = shared[0]
+        return f"links {a} and {b} share two or more nodes, which the sparse path does not take"
+    return None
+
+
+def is_large(mech: Mechanism) -> bool:
+    """Whether :func:`symkin.analyze` takes the sparse path for ``mech`` (the size switch).
+
+    >>> from symkin.model.catalogue import get
+    >>> is_large(get("fourbar_appendix"))
+    False
+    """
+    if _free_count(mech) <= LARGE_COORDINATES and pairwise_row_count(mech) <= LARGE_ROWS:
+        return False
+    return _not_sparse(mech) is None
+
+
+def check_dense_size(mech: Mechanism) -> None:
+    """Raise :class:`~symkin.errors.ModelError` when the dense analysis of ``mech`` would not fit."""
+    rows, cols = pairwise_row_count(mech), _free_count(mech)
+    problem = dense_size_problem(rows, cols, _not_sparse(mech) or "the sparse path is for larger models")
+    if problem is not None:
+        raise ModelError([problem])
+
+
+def sparse_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT):
+    """The :class:`~symkin.analysis.motion_space.ConfigurationRows` of ``mech`` with sparse rows."""
+    from symkin.analysis.motion_space import ConfigurationRows
+
+    rows = sparse_constraint_rows(mech, tolerances)
+    return ConfigurationRows(mech, rows.matrix, rows.free_index, sparse=rows)
+
+
+def sparse_motion_fields(rows, tolerances: Tolerances) -> dict:
+    """The fields of a :class:`~symkin.analysis.motion_space.MotionSpace` from sparse ``rows``."""
+    jf = sps.csr_matrix(rows.J)[:, rows.free_index].tocsr()
+    jf.eliminate_zeros()
+    try:
+        smax, s_small, v_free, rank = sparse_small_singular(jf, tolerances.rank, tolerances.sparse_window,
+                                                            max_vectors=MAX_MOTIONS)
+    except MemoryError:
+        raise ModelError([Problem("model", f"more than {MAX_MOTIONS} singular values of its {jf.shape[0]} × "
+                                           f"{jf.shape[1]} constraint matrix are near zero (below "
+                                           f"{tolerances.sparse_window:g} × the largest): a motion space "
+                                           f"that large is beyond the limit of {MAX_MOTIONS} motions")]) from None
+    threshold = tolerances.rank * smax
+    v = np.zeros((rows.J.shape[1], v_free.shape[1]))
+    v[rows.free_index] = v_free
+    return dict(V=v, dof=v.shape[1], singular_values=s_small, threshold=threshold, rank=rank, J=jf, U=None,
+                V_free=v_free, sparse=rows.sparse)
+
+
+def _drop_shared_simplex_pairs(owners, touching: np.ndarray, sizes: dict) -> list[int]:
+    """Second copies of a node pair shared by simplex bodies (links of 3+ nodes): artefacts."""
+    from symkin.analysis.statics import _PAIR
+
+    seen, out = set(), []
+    for r in touching.tolist():
+        m = _PAIR.match(owners[r])
+        if m and sizes.get(m["link"], 2) >= 3:
+            key = frozenset((m["a"], m["b"]))
+            if key in seen:
+                out.append(r)
+            seen.add(key)
+    return out
+
+
+def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances):
+    """``(stresses, labels, artefacts)`` of a sparse motion space ``ms``.
+
+    ``stresses`` is a list of ``(row indices, coefficients)`` (over the rows of ``ms.J``),
+    one per independent self-stress, or None when the fundamental stresses fail their
+    check and the dense left null space would not fit (the count is still exact).
+    """
+    from symkin.analysis.statics import constraint_labels
+
+    info = ms.sparse
+    jf = ms.J
+    touching = ms.effective_rows
+    sizes = {name: len(ns) for name, ns in mech.links}
+    internal = set(info.internal.tolist()) | set(_drop_shared_simplex_pairs(info.owners, touching, sizes))
+    used = np.array([r for r in touching.tolist() if r not in internal], dtype=int)
+    artefacts = touching.size - used.size
+    count = used.size - ms.rank
+    labels = constraint_labels(mech, info.owners)
+    if count <= 0:
+        return [], labels, artefacts
+    ju = jf[used]
+    smax = ms.threshold / tolerances.rank if tolerances.rank > 0 else 1.0
+    out = []
+    try:
+        dependent = sparse_dependent_rows(ju, count, tolerances.sparse_gram)
+        for k, basis, vals in sparse_fundamental_stresses(ju, dependent, ms.V_free):
+            omega_rows = np.concatenate([[k], basis])
+            omega = np.concatenate([[1.0], vals])
+            scale = np.abs(omega).max()
+            keep = np.abs(omega) > tolerances.rank * scale
+            omega_rows, omega = omega_rows[keep], omega[keep]
+            residual = np.abs(ju[omega_rows].T @ omega).max() if omega.size else 0.0
+            if not residual <= tolerances.rank * smax * np.linalg.norm(omega):
+                raise ArithmeticError("a fundamental stress fails the rank test")
+            order = np.argsort(omega_rows)
+            out.append((used[omega_rows[order]], omega[order]))
+    except (ArithmeticError, RuntimeError):  # an ill-conditioned choice of rows: the dense left null space
+        if dense_size_problem(used.size, jf.shape[1], "") is not None:
+            return None, labels, artefacts
+        basis = left_null_space(ju.toarray(), ms.threshold)[:, :count]
+        out = []
+        for c in range(basis.shape[1]):
+            col = basis[:, c]
+            keep = np.flatnonzero(np.abs(col) > tolerances.rank * np.abs(col).max())
+            out.append((used[keep], col[keep] / col[keep[0]]))
+    return out, labels, artefacts
