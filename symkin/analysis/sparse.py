@@ -117,18 +117,26 @@ def sparse_motion_fields(rows, tolerances: Tolerances) -> dict:
                 V_free=v_free, sparse=rows.sparse)
 
 
-def _drop_shared_simplex_pairs(owners, touching: np.ndarray, sizes: dict) -> list[int]:
-    """Second copies of a node pair shared by simplex bodies (links of 3+ nodes): artefacts."""
+def _shared_simplex_pairs(owners, touching: np.ndarray, sizes: dict) -> dict[int, list[int]]:
+    """First row → its other copies, for each node pair shared by simplex bodies (links of 3+ nodes).
+
+    The copies after the first are artefacts (:mod:`symkin.analysis.statics`): the stresses
+    are computed without them, then the force of the pair is shared equally by its copies —
+    the representative the dense path gives (its stresses are orthogonal to the difference
+    of two copies).
+    """
     from symkin.analysis.statics import _PAIR
 
-    seen, out = set(), []
+    first: dict[frozenset, int] = {}
+    out: dict[int, list[int]] = {}
     for r in touching.tolist():
         m = _PAIR.match(owners[r])
         if m and sizes.get(m["link"], 2) >= 3:
             key = frozenset((m["a"], m["b"]))
-            if key in seen:
-                out.append(r)
-            seen.add(key)
+            if key in first:
+                out.setdefault(first[key], []).append(r)
+            else:
+                first[key] = r
     return out
 
 
@@ -145,7 +153,8 @@ def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances):
     jf = ms.J
     touching = ms.effective_rows
     sizes = {name: len(ns) for name, ns in mech.links}
-    internal = set(info.internal.tolist()) | set(_drop_shared_simplex_pairs(info.owners, touching, sizes))
+    copies = _shared_simplex_pairs(info.owners, touching, sizes)
+    internal = set(info.internal.tolist()) | {r for rs in copies.values() for r in rs}
     used = np.array([r for r in touching.tolist() if r not in internal], dtype=int)
     artefacts = touching.size - used.size
     count = used.size - ms.rank
@@ -157,17 +166,14 @@ def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances):
     out = []
     try:
         dependent = sparse_dependent_rows(ju, count, tolerances.sparse_gram)
-        for k, basis, vals in sparse_fundamental_stresses(ju, dependent, ms.V_free):
-            omega_rows = np.concatenate([[k], basis])
-            omega = np.concatenate([[1.0], vals])
-            scale = np.abs(omega).max()
-            keep = np.abs(omega) > tolerances.rank * scale
-            omega_rows, omega = omega_rows[keep], omega[keep]
-            residual = np.abs(ju[omega_rows].T @ omega).max() if omega.size else 0.0
-            if not residual <= tolerances.rank * smax * np.linalg.norm(omega):
-                raise ArithmeticError("a fundamental stress fails the rank test")
-            order = np.argsort(omega_rows)
-            out.append((used[omega_rows[order]], omega[order]))
+        w = sparse_fundamental_stresses(ju, dependent, ms.V_free, tolerances.rank)
+        residual = abs(ju.T @ w).max(axis=0).toarray().ravel() if w.shape[1] else np.zeros(0)
+        norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
+        if not np.all(residual <= tolerances.rank * smax * norms):
+            raise ArithmeticError("a fundamental stress fails the rank test")
+        for c in range(w.shape[1]):
+            lo, hi = w.indptr[c], w.indptr[c + 1]
+            out.append((used[w.indices[lo:hi]], w.data[lo:hi]))
     except (ArithmeticError, RuntimeError):  # an ill-conditioned choice of rows: the dense left null space
         if dense_size_problem(used.size, jf.shape[1], "") is not None:
             return None, labels, artefacts
@@ -177,4 +183,15 @@ def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances):
             col = basis[:, c]
             keep = np.flatnonzero(np.abs(col) > tolerances.rank * np.abs(col).max())
             out.append((used[keep], col[keep] / col[keep[0]]))
-    return out, labels, artefacts
+    return [_share_copies(rows, coef, copies) for rows, coef in out] if copies else out, labels, artefacts
+
+
+def _share_copies(rows: np.ndarray, coef: np.ndarray, copies: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The force on a pair's first row shared equally by all its copies (see :func:`_shared_simplex_pairs`)."""
+    out_rows, out_coef = [], []
+    for r, c in zip(rows.tolist(), coef.tolist()):
+        group = [r] + copies.get(r, [])
+        out_rows += group
+        out_coef += [c / len(group)] * len(group)
+    order = np.argsort(out_rows)
+    return np.array(out_rows)[order], np.array(out_coef)[order]
