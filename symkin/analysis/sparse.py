@@ -14,9 +14,9 @@ pairwise form) takes this path instead:
   ``σ <= rank · σ_max`` on singular values of ``J`` accurate to rounding;
 * the self-stresses are the **fundamental** stresses of the dependent rows
   (:func:`symkin.numeric.linalg.sparse_dependent_rows`,
-  :func:`~symkin.numeric.linalg.sparse_fundamental_stresses`): one per dependent row ``k``,
+  :class:`~symkin.numeric.linalg.FundamentalStresses`): one per dependent row ``k``,
   with coefficient 1 on row k, each checked (``‖Jᵀω‖ <= rank · σ_max · ‖ω‖``, the rank
-  test).  They span the same space as the dense path's canonical (reduced row echelon)
+  test), computed when read (:class:`SparseStresses`).  They span the same space as the dense path's canonical (reduced row echelon)
   stresses, but are not that canonical basis: the echelon form of thousands of stresses
   is dense, theirs stay as sparse as the structure lets them (a stress local to a few bars
   stays on them).
@@ -31,19 +31,22 @@ else it is refused with its size and the limit.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import scipy.sparse as sps
 
-from symkin.errors import ModelError, Problem
+from symkin.analysis.relations import Relation
+from symkin.errors import ModelError, Problem, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.model.validation import dense_size_problem
-from symkin.numeric.linalg import (left_null_space, sparse_dependent_rows, sparse_fundamental_stresses,
+from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
                                    sparse_small_singular)
 from symkin.numeric.sparse_rows import pairwise_row_count, shared_body_pairs, sparse_constraint_rows
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["LARGE_COORDINATES", "LARGE_ROWS", "MAX_MOTIONS", "is_large", "check_dense_size", "sparse_rows",
-           "sparse_motion_fields", "sparse_stresses"]
+           "sparse_motion_fields", "sparse_stresses", "SparseStresses"]
 
 #: free coordinates above which :func:`symkin.analyze` takes the sparse path (a dense SVD of
 #: 400 × 600 takes ~0.1 s; the sparse path is faster above ~300 coordinates and its cost is
@@ -54,6 +57,8 @@ LARGE_ROWS = 2000
 #: singular values below the window (:attr:`Tolerances.sparse_window`) beyond which a large
 #: model is refused: its motion space would be a dense (coordinates × motions) matrix
 MAX_MOTIONS = 2000
+#: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`)
+CHUNK = 256
 
 
 def _free_count(mech: Mechanism) -> int:
@@ -140,50 +145,109 @@ def _shared_simplex_pairs(owners, touching: np.ndarray, sizes: dict) -> dict[int
     return out
 
 
-def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances):
-    """``(stresses, labels, artefacts)`` of a sparse motion space ``ms``.
+class SparseStresses(Sequence):
+    """The self-stresses of a large model: a sequence of :class:`~symkin.analysis.relations.Relation`.
 
-    ``stresses`` is a list of ``(row indices, coefficients)`` (over the rows of ``ms.J``),
-    one per independent self-stress, or None when the fundamental stresses fail their
-    check and the dense left null space would not fit (the count is still exact).
+    Its length (the number of independent self-stresses) is known at once; the stresses are
+    computed when read, :data:`CHUNK` at a time (one sparse solve each, checked by the rank
+    test), so that a report showing a few of them does not pay for thousands.  Reading all
+    of them (``--json``, ``tuple(...)``) computes all.  Equal to a tuple of the same
+    relations; pickles as that tuple.
     """
+
+    def __init__(self, mech: Mechanism, ms, tolerances: Tolerances, used: np.ndarray, copies: dict,
+                 labels: tuple, count: int):
+        self._ju = ms.J[used]
+        self._used, self._copies, self._labels = used, copies, labels
+        self._tol = tolerances
+        self._smax = ms.threshold / tolerances.rank if tolerances.rank > 0 else 1.0
+        self._count = count
+        self._done: list[Relation] = []
+        self._fundamental = None
+        if count > 0:
+            try:
+                dependent = sparse_dependent_rows(self._ju, count, tolerances.sparse_gram)
+                self._fundamental = FundamentalStresses(self._ju, dependent, ms.V_free)
+            except RuntimeError:  # SuperLU: the rows chosen are singular
+                self._dense()
+
+    def __len__(self) -> int:
+        return self._count
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return tuple(self[k] for k in range(*i.indices(self._count)))
+        if i < 0:
+            i += self._count
+        if not 0 <= i < self._count:
+            raise IndexError(i)
+        while len(self._done) <= i:
+            self._more()
+        return self._done[i]
+
+    def __iter__(self):
+        for k in range(self._count):
+            yield self[k]
+
+    def __eq__(self, other) -> bool:
+        try:
+            return len(other) == self._count and all(a == b for a, b in zip(self, other))
+        except TypeError:
+            return NotImplemented
+
+    __hash__ = None
+
+    def __reduce__(self):
+        return tuple, (tuple(self),)
+
+    def __repr__(self) -> str:
+        return f"SparseStresses({self._count} self-stresses, {len(self._done)} computed)"
+
+    def _more(self) -> None:
+        start = len(self._done)
+        w = self._fundamental.columns(start, start + CHUNK, self._tol.rank)
+        residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
+        norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
+        if not np.all(residual <= self._tol.rank * self._smax * norms):  # ill-conditioned rows: dense
+            self._dense()
+            return
+        for c in range(w.shape[1]):
+            lo, hi = w.indptr[c], w.indptr[c + 1]
+            self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
+
+    def _add(self, rows: np.ndarray, coef: np.ndarray) -> None:
+        if self._copies:
+            rows, coef = _share_copies(rows, coef, self._copies)
+        labels = self._labels
+        self._done.append(Relation(tuple(zip([labels[r] for r in rows.tolist()], coef.tolist()))))
+
+    def _dense(self) -> None:
+        """All stresses from the dense left null space (when the sparse choice of rows failed)."""
+        problem = dense_size_problem(self._ju.shape[0], self._ju.shape[1], "the sparse self-stresses failed")
+        if problem is not None:
+            raise SymkinError(f"the self-stresses cannot be listed: {problem.message}")
+        basis = left_null_space(self._ju.toarray(), self._tol.rank * self._smax)[:, : self._count]
+        self._done = []
+        for c in range(basis.shape[1]):
+            col = basis[:, c]
+            keep = np.flatnonzero(np.abs(col) > self._tol.rank * np.abs(col).max())
+            self._add(self._used[keep], col[keep] / col[keep[0]])
+        self._count = len(self._done)
+
+
+def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances) -> tuple[SparseStresses, int]:
+    """The self-stresses (:class:`SparseStresses`) of a sparse motion space ``ms`` and the artefacts' count."""
     from symkin.analysis.statics import constraint_labels
 
     info = ms.sparse
-    jf = ms.J
     touching = ms.effective_rows
     sizes = {name: len(ns) for name, ns in mech.links}
     copies = _shared_simplex_pairs(info.owners, touching, sizes)
     internal = set(info.internal.tolist()) | {r for rs in copies.values() for r in rs}
     used = np.array([r for r in touching.tolist() if r not in internal], dtype=int)
     artefacts = touching.size - used.size
-    count = used.size - ms.rank
-    labels = constraint_labels(mech, info.owners)
-    if count <= 0:
-        return [], labels, artefacts
-    ju = jf[used]
-    smax = ms.threshold / tolerances.rank if tolerances.rank > 0 else 1.0
-    out = []
-    try:
-        dependent = sparse_dependent_rows(ju, count, tolerances.sparse_gram)
-        w = sparse_fundamental_stresses(ju, dependent, ms.V_free, tolerances.rank)
-        residual = abs(ju.T @ w).max(axis=0).toarray().ravel() if w.shape[1] else np.zeros(0)
-        norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
-        if not np.all(residual <= tolerances.rank * smax * norms):
-            raise ArithmeticError("a fundamental stress fails the rank test")
-        for c in range(w.shape[1]):
-            lo, hi = w.indptr[c], w.indptr[c + 1]
-            out.append((used[w.indices[lo:hi]], w.data[lo:hi]))
-    except (ArithmeticError, RuntimeError):  # an ill-conditioned choice of rows: the dense left null space
-        if dense_size_problem(used.size, jf.shape[1], "") is not None:
-            return None, labels, artefacts
-        basis = left_null_space(ju.toarray(), ms.threshold)[:, :count]
-        out = []
-        for c in range(basis.shape[1]):
-            col = basis[:, c]
-            keep = np.flatnonzero(np.abs(col) > tolerances.rank * np.abs(col).max())
-            out.append((used[keep], col[keep] / col[keep[0]]))
-    return [_share_copies(rows, coef, copies) for rows, coef in out] if copies else out, labels, artefacts
+    count = max(used.size - ms.rank, 0)
+    return SparseStresses(mech, ms, tolerances, used, copies, constraint_labels(mech, info.owners), count), artefacts
 
 
 def _share_copies(rows: np.ndarray, coef: np.ndarray, copies: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -80,7 +80,9 @@ class Statics:
         Number of independent self-stresses (modelling artefacts excluded).
     self_stresses : tuple of Relation
         One per independent self-stress, ``{constraint label: coefficient}``, canonical
-        (reduced row echelon over the rows' order, pivot 1, exact zeros).
+        (reduced row echelon over the rows' order, pivot 1, exact zeros).  For a large
+        model (:mod:`symkin.analysis.sparse`): the fundamental stresses of its dependent
+        rows (coefficient 1 on the dependent row), a sequence computed when read.
     artefacts : int
         Number of excluded stresses internal to the rows that model rigid bodies.
     """
@@ -241,13 +243,8 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
 
 
 def _sparse_statics(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances) -> Statics:
-    """:func:`self_stresses` of a large model: fundamental stresses (:mod:`symkin.analysis.sparse`)."""
+    """:func:`self_stresses` of a large model: fundamental stresses, computed when read (:mod:`symkin.analysis.sparse`)."""
     from symkin.analysis.sparse import sparse_stresses
 
-    stresses, labels, artefacts = sparse_stresses(mech, ms, tolerances)
-    count = ms.effective_rows.size - artefacts - ms.rank
-    if stresses is None:
-        return Statics(redundant_constraints=max(count, 0), self_stresses=(), artefacts=artefacts)
-    relations = tuple(Relation(tuple((labels[r], float(c)) for r, c in zip(rows.tolist(), coef.tolist())))
-                      for rows, coef in stresses)
-    return Statics(redundant_constraints=len(relations), self_stresses=relations, artefacts=artefacts)
+    stresses, artefacts = sparse_stresses(mech, ms, tolerances)
+    return Statics(redundant_constraints=len(stresses), self_stresses=stresses, artefacts=artefacts)

@@ -11,7 +11,7 @@ from scipy.linalg import lapack
 
 __all__ = ["svd_factors", "singular_values", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
            "normal_basis", "affine_hull", "independent_rows", "sparse_small_singular", "sparse_dependent_rows",
-           "sparse_fundamental_stresses"]
+           "FundamentalStresses"]
 
 
 def svd_factors(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -293,45 +293,60 @@ def sparse_dependent_rows(a, count: int, regularisation: float) -> np.ndarray:
     return np.sort(order[np.argsort(lu.perm_r)[position]])
 
 
-def sparse_fundamental_stresses(a, dependent: np.ndarray, null: np.ndarray, drop: float):
+class FundamentalStresses:
     """The fundamental left null vectors of the sparse ``a`` (m, n) for its ``dependent`` rows.
 
     With ``B`` the other rows (``rank`` of them) and ``C`` the columns kept after dropping
     ``L = null.shape[1]`` columns on which the right null space is nonsingular (pivoted QR of
     ``nullᵀ``), ``B[:, C]`` is square and nonsingular, and for each dependent row k,
     ``y = B[:, C]⁻ᵀ a[k, C]ᵀ`` gives ``ω = e_k − Σ y_b e_b`` with ``ωᵀ a = 0`` (row k is
-    ``yᵀ B``).  Returns them as the columns of a sparse (m, len(dependent)) CSC matrix, in
-    the order of ``dependent``, entries ``<= drop · max|ω|`` set to exact zeros (as
-    :func:`rref` does).  SuperLU factorises ``B[:, C]ᵀ`` once; one solve per column, so
-    that only the nonzeros are kept (memory linear in their number).
+    ``yᵀ B``).  SuperLU factorises ``B[:, C]ᵀ`` once (at construction); :meth:`columns`
+    solves for a range of dependent rows, one solve each, keeping only the nonzeros, so
+    that a caller computes the stresses it shows (memory linear in their nonzeros).
     """
-    import scipy.sparse as sps
-    import scipy.sparse.linalg as spla
-    from scipy.linalg import qr
 
-    a = sps.csr_matrix(a)
-    m, n = a.shape
-    keep = np.arange(n)
-    if null.shape[1]:
-        piv = qr(null.T, pivoting=True, mode="r")[1]
-        keep = np.setdiff1d(keep, piv[: null.shape[1]])
-    basis = np.setdiff1d(np.arange(m), dependent)
-    lu = spla.splu(a[basis][:, keep].T.tocsc())
-    dep = a[dependent][:, keep].tocsr()
-    rows, vals, ptr = [], [], [0]
-    rhs = np.zeros(keep.size)
-    for r, k in enumerate(dependent.tolist()):
-        lo, hi = dep.indptr[r], dep.indptr[r + 1]
-        rhs[:] = 0.0
-        rhs[dep.indices[lo:hi]] = dep.data[lo:hi]
-        y = lu.solve(rhs)
-        big = max(float(np.abs(y).max()) if y.size else 0.0, 1.0)
-        nz = np.flatnonzero(np.abs(y) > drop * big)
-        rows.append(np.concatenate([[k], basis[nz]]))
-        vals.append(np.concatenate([[1.0], -y[nz]]))
-        ptr.append(ptr[-1] + nz.size + 1)
-    if not rows:
-        return sps.csc_matrix((m, 0))
-    out = sps.csc_matrix((np.concatenate(vals), np.concatenate(rows), np.array(ptr)), shape=(m, len(rows)))
-    out.sort_indices()
-    return out
+    def __init__(self, a, dependent: np.ndarray, null: np.ndarray):
+        import scipy.sparse as sps
+        import scipy.sparse.linalg as spla
+        from scipy.linalg import qr
+
+        a = sps.csr_matrix(a)
+        self.shape = a.shape
+        m, n = a.shape
+        keep = np.arange(n)
+        if null.shape[1]:
+            piv = qr(null.T, pivoting=True, mode="r")[1]
+            keep = np.setdiff1d(keep, piv[: null.shape[1]])
+        self.dependent = np.asarray(dependent, dtype=int)
+        self.basis = np.setdiff1d(np.arange(m), self.dependent)
+        self.count = self.dependent.size
+        self._lu = spla.splu(a[self.basis][:, keep].T.tocsc()) if self.count else None
+        self._dep = a[self.dependent][:, keep].tocsr()
+        self._n = keep.size
+
+    def columns(self, start: int, stop: int, drop: float):
+        """Stresses ``start:stop`` as the columns of a sparse (m, stop − start) CSC matrix.
+
+        Entries ``<= drop · max|ω|`` are exact zeros (as :func:`rref` does).
+        """
+        import scipy.sparse as sps
+
+        rows, vals, ptr = [], [], [0]
+        rhs = np.zeros(self._n)
+        dep = self._dep
+        for r in range(start, min(stop, self.count)):
+            lo, hi = dep.indptr[r], dep.indptr[r + 1]
+            rhs[:] = 0.0
+            rhs[dep.indices[lo:hi]] = dep.data[lo:hi]
+            y = self._lu.solve(rhs)
+            big = max(float(np.abs(y).max()) if y.size else 0.0, 1.0)
+            nz = np.flatnonzero(np.abs(y) > drop * big)
+            rows.append(np.concatenate([[self.dependent[r]], self.basis[nz]]))
+            vals.append(np.concatenate([[1.0], -y[nz]]))
+            ptr.append(ptr[-1] + nz.size + 1)
+        if not rows:
+            return sps.csc_matrix((self.shape[0], 0))
+        out = sps.csc_matrix((np.concatenate(vals), np.concatenate(rows), np.array(ptr)),
+                             shape=(self.shape[0], len(rows)))
+        out.sort_indices()
+        return out
