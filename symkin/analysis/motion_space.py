@@ -226,9 +226,15 @@ class MotionSpace:
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
         got = self.given.get(params)
+        # a large model's free coordinates without its plan (whose pair rows grow as k² for a body of k nodes)
+        free_index = self.sparse.free_index if self.sparse is not None else None
+        if got is None and not params and free_index is not None:
+            got = (np.zeros((0, self.V.shape[0])), ())
         p, labels = got if got is not None else parameters_matrix(mech, params, self.__dict__.get("xyz"))
-        hat_free, norms = indicators.unit_rows(p.take(plan(mech.topology).free_index, axis=1))
-        v_free = self.V_free if self.V_free is not None else self.V[plan(mech.topology).free_index]
+        if free_index is None:
+            free_index = plan(mech.topology).free_index
+        hat_free, norms = indicators.unit_rows(p.take(free_index, axis=1))
+        v_free = self.V_free if self.V_free is not None else self.V[free_index]
         m = hat_free @ v_free
         for a in (m, norms, hat_free):
             a.setflags(write=False)
