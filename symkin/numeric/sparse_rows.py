@@ -182,14 +182,9 @@ def sparse_constraint_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) ->
     nrow = npair
     internal = []
     for name, ns, idx, frame, start, end in pieces:
-        body = xyz[idx]
-        base = body[frame[0]]
-        edges = np.array([body[k] - base for k in frame[1:]]).T.reshape(dim, len(frame) - 1)
         others = [m for m in range(len(idx)) if m not in set(frame)]
         if others:
-            coef = np.linalg.lstsq(edges, (body[others] - base).T, rcond=None)[0].T if edges.size \
-                else np.zeros((len(others), 0))
-            weights = np.hstack([1.0 - coef.sum(axis=1, keepdims=True), coef])  # on frame[0], frame[1:]
+            weights = _affine_weights(xyz[idx], frame, others)
             node_of = np.array([idx[m] for m in others])
             frame_nodes = np.array([idx[k] for k in frame])
             k = len(others)
@@ -222,6 +217,19 @@ def sparse_constraint_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) ->
         internal += _dependent_in_body(matrix, rows, frame_nodes, free, dim, tolerances)
     return SparseRows(matrix=matrix, owners=tuple(owners), free_index=free_index,
                       internal=np.array(sorted(internal), dtype=int))
+
+
+def _affine_weights(body: np.ndarray, frame: list[int], others: list[int]) -> np.ndarray:
+    """Affine coordinates (len(others), len(frame)) of the ``others`` nodes of a body on its ``frame``.
+
+    Row m holds the weights on ``frame[0], frame[1], …`` (they sum to 1); least squares on
+    the frame's edges, as ``geometric_matrix._body_extra_rows`` computes them.
+    """
+    base = body[frame[0]]
+    edges = np.array([body[k] - base for k in frame[1:]]).T.reshape(body.shape[1], len(frame) - 1)
+    coef = np.linalg.lstsq(edges, (body[others] - base).T, rcond=None)[0].T if edges.size \
+        else np.zeros((len(others), 0))
+    return np.hstack([1.0 - coef.sum(axis=1, keepdims=True), coef])
 
 
 def _SliderPlan(dim: int, ncoord: int, index: dict) -> SimpleNamespace:
