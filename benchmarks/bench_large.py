@@ -20,7 +20,10 @@ Each case runs in a fresh process (so that its peak resident memory is its own) 
 reports: reading the file, ``symkin.analyze`` (the classification: rank, flexes, the number
 of self-stresses), the text report (which computes the few stresses it shows), the JSON
 report (which computes and lists every stress), the ``symkin analyze`` command line's wall
-time, and the peak resident memory (``ru_maxrss``, the interpreter's ~100 MB included).
+time, and the peak resident memory (``ru_maxrss``: the process's, the interpreter's ~120 MB
+included; the case's, above the process after its imports, up to the text report and
+with the JSON report).  Below the size switch (``symkin.analysis.sparse.LARGE_COORDINATES``)
+``analyze`` takes the dense path; the rows say which.
 Baselines in the same run: the dense path (``classify(model_rows(m))``, the paper's
 pairwise form and one full SVD) up to ``--dense-max`` nodes, and PyRigi 1.3
 (``Framework.is_inf_rigid(numerical=True)`` and ``Framework.stresses(numerical=True)`` on
@@ -147,6 +150,7 @@ def _one(kind: str, n: int, what: str, folder: str) -> dict:
         t = time.perf_counter()
         render_text(a)
         out["text"] = time.perf_counter() - t
+        out["text_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024 - base_mb
         t = time.perf_counter()
         json.dumps(a.to_dict())
         out["json"] = time.perf_counter() - t
@@ -249,7 +253,8 @@ def _print(rows) -> None:
         what = r["what"] + (" (sparse)" if r.get("sparse") else " (dense)" if r["what"] == "analyze" else "")
         print(f"{r['kind']:8} {r['n']:>6} nodes {what:18} read {_fmt(r['read'])}, analyze {_fmt(r['analyze'])}, "
               f"text {_fmt(r.get('text'))}, json {_fmt(r.get('json'))}, CLI {_fmt(r.get('cli'))}, "
-              f"peak {_fmt(r['peak_mb'], 'MB')} (+{_fmt(r['case_mb'], 'MB')} for the case); "
+              f"peak {_fmt(r['peak_mb'], 'MB')} (+{_fmt(r['case_mb'], 'MB')} for the case, "
+              f"+{_fmt(r.get('text_mb'), 'MB')} up to the text report); "
               f"DOF {r['dof']}, {r['stresses']} self-stresses", flush=True)
 
 
@@ -262,7 +267,8 @@ def _summary(rows) -> None:
               f"analyze + JSON {_slope(ns, [r['analyze'] + r['json'] for r in sparse]):.2f}, "
               f"peak memory {_slope(ns, [r['peak_mb'] for r in sparse]):.2f}, "
               f"memory of the case (peak minus the process after its imports) "
-              f"{_slope(ns, [max(r['case_mb'], 1.0) for r in sparse]):.2f}")
+              f"{_slope(ns, [max(r['case_mb'], 1.0) for r in sparse]):.2f} "
+              f"(up to the text report {_slope(ns, [max(r['text_mb'], 1.0) for r in sparse]):.2f})")
     for what in ("dense", "pyrigi"):
         for r in (r for r in rows if r["what"] == what and "error" not in r):
             s = next((x for x in sparse if x["n"] == r["n"]), None)
