@@ -209,9 +209,10 @@ def _have_pyrigi() -> bool:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000])
-    p.add_argument("--spatial", type=int, nargs="+", default=[1000])
+    p.add_argument("--spatial", type=int, nargs="*", default=[1000])
     p.add_argument("--dense-max", type=int, default=300, help="largest planar size run on the dense path")
     p.add_argument("--pyrigi-max", type=int, default=300, help="largest planar size run with PyRigi")
+    p.add_argument("--no-body", action="store_true", help="skip the 1,000-node rigid body")
     p.add_argument("--json", help="write the rows to this file")
     p.add_argument("--one", nargs=4, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
@@ -222,7 +223,8 @@ def main(argv=None) -> int:
     print(f"load average {os.getloadavg()[0]:.2f}; PyRigi {'installed' if _have_pyrigi() else 'not installed'}")
     rows = []
     with tempfile.TemporaryDirectory() as folder:
-        cases = [("planar", n) for n in args.sizes] + [("spatial", n) for n in args.spatial] + [("body", 1000)]
+        cases = [("planar", n) for n in args.sizes] + [("spatial", n) for n in args.spatial] + \
+            ([("body", 1000)] if not args.no_body else [])
         for kind, n in cases:
             row = _run(kind, n, "analyze", folder)
             if "error" not in row:
