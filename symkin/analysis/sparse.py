@@ -75,6 +75,24 @@ def _not_sparse(mech: Mechanism) -> str | None:
     return None
 
 
+_ROUTES: dict = {}
+
+
+def _route(mech: Mechanism) -> tuple[bool, Problem | None]:
+    """``(sparse?, problem of the dense path)`` of ``mech``'s topology (computed once per topology)."""
+    got = _ROUTES.get(mech.topology)
+    if got is None:
+        rows, cols = pairwise_row_count(mech), _free_count(mech)
+        large = rows > LARGE_ROWS or cols > LARGE_COORDINATES
+        why = _not_sparse(mech) if large or dense_size_problem(rows, cols, "") is not None else None
+        problem = None if large and why is None else \
+            dense_size_problem(rows, cols, why or "the sparse path is for larger models")
+        if len(_ROUTES) > 256:
+            _ROUTES.clear()
+        got = _ROUTES[mech.topology] = (large and why is None, problem)
+    return got
+
+
 def is_large(mech: Mechanism) -> bool:
     """Whether :func:`symkin.analyze` takes the sparse path for ``mech`` (the size switch).
 
@@ -82,15 +100,12 @@ def is_large(mech: Mechanism) -> bool:
     >>> is_large(get("fourbar_appendix"))
     False
     """
-    if _free_count(mech) <= LARGE_COORDINATES and pairwise_row_count(mech) <= LARGE_ROWS:
-        return False
-    return _not_sparse(mech) is None
+    return _route(mech)[0]
 
 
 def check_dense_size(mech: Mechanism) -> None:
     """Raise :class:`~symkin.errors.ModelError` when the dense analysis of ``mech`` would not fit."""
-    rows, cols = pairwise_row_count(mech), _free_count(mech)
-    problem = dense_size_problem(rows, cols, _not_sparse(mech) or "the sparse path is for larger models")
+    problem = _route(mech)[1]
     if problem is not None:
         raise ModelError([problem])
 

@@ -248,3 +248,54 @@ def test_a_model_too_large_for_the_dense_path_is_refused_with_its_size(tmp_path)
     proc = subprocess.run([sys.executable, "-m", "symkin", "analyze", str(path)], capture_output=True, text=True,
                           cwd=ROOT)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr and "limit of 2 GiB" in proc.stderr
+
+
+def _frameworks():
+    from tests.analysis.test_statics import FRAMEWORKS
+
+    return FRAMEWORKS
+
+
+@pytest.mark.parametrize("name", list(_frameworks()))
+def test_sparse_stress_count_agrees_with_pyrigi(name):
+    """The frameworks of ``test_statics`` (PyRigi's stress count there): the sparse path counts the same."""
+    pyrigi = pytest.importorskip("pyrigi")
+    nodes, bars = _frameworks()[name]
+    expected = len(pyrigi.Framework(pyrigi.Graph([(b[0], b[1]) for b in bars]),
+                                    {n: list(x) for n, x in nodes.items()}).stresses(numerical=True))
+    mech = symkin.Mechanism.from_dict({"dim": 2, "mobility": 0,
+                                       "nodes": {n: list(map(float, x)) for n, x in nodes.items()},
+                                       "links": {b: [b[0], b[1]] for b in bars}})
+    s = classify(sparse.sparse_rows(mech), DEFAULT)
+    assert s.redundant_constraints == len(tuple(s.self_stresses)) == expected
+
+
+def _pyrigi_db():
+    """Frameworks of PyRigi's ``frameworkDB`` (name, constructor, arguments), planar and spatial."""
+    # (PyRigi realises K_n and C_n in space only for n <= dim + 1)
+    cases = [("Complete", (n,), {"dim": d}) for n in range(3, 8) for d in (2, 3) if d == 2 or n <= 4]
+    cases += [("Cycle", (n,), {"dim": d}) for n in (4, 5, 6) for d in (2, 3) if d == 2 or n <= 4]
+    cases += [("Wheel", (n,), {}) for n in (4, 5, 6, 7)] + [("Frustum", (n,), {}) for n in (3, 4, 5)]
+    cases += [("CompleteBipartite", (a, b), {}) for a, b in ((3, 3), (3, 4), (4, 4))]
+    cases += [(name, (), {}) for name in ("Square", "Diamond", "K33plusEdge", "ThreePrism", "ThreePrismPlusEdge",
+                                          "Cube", "Octahedron", "Icosahedron", "Dodecahedron", "SecondOrderRigid",
+                                          "CnSymmetricFourRegular", "CnSymmetricWithFixedVertex")]
+    return cases
+
+
+@pytest.mark.parametrize("name,args,kwargs", _pyrigi_db(),
+                         ids=[f"{n}{a}{k.get('dim', '')}" for n, a, k in _pyrigi_db()])
+def test_both_paths_count_pyrigi_s_stresses_on_its_framework_database(name, args, kwargs):
+    """PyRigi 1.3's own frameworks: its numerical stress count = the dense = the sparse path's."""
+    db = pytest.importorskip("pyrigi.frameworkDB")
+    fw = getattr(db, name)(*args, **kwargs)
+    expected = len(fw.stresses(numerical=True))
+    points = fw.realization(as_points=True, numerical=True)
+    dim = len(next(iter(points.values())))
+    mech = symkin.Mechanism.from_dict({"dim": dim, "mobility": 0,
+                                       "nodes": {f"V{v}": [float(c) for c in p] for v, p in points.items()},
+                                       "links": {f"e{k}": [f"V{a}", f"V{b}"] for k, (a, b) in
+                                                 enumerate(fw.graph.edges)}})
+    d, s = _both(mech)
+    assert d.redundant_constraints == s.redundant_constraints == expected
+    assert d.dof == s.dof
