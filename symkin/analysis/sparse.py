@@ -24,6 +24,10 @@ pairwise form) takes this path instead:
 The count of self-stresses is the dense path's: rows touching a free coordinate, minus the
 rank, minus the modelling artefacts (here: the rows of a body made dependent on its own
 rows by fixed nodes, and the second copy of a node pair shared by two simplex bodies).
+On this path the signed DKP values (:func:`symkin.analysis.indicators.dkp_value`) of a
+mechanism are given unsigned: their sign is relative to the independent rows ``J_S``,
+which a pivoted QR of the whole ``J`` would choose.
+
 A model that this path cannot take — two bodies, one of more than ``dim + 1`` nodes,
 sharing two nodes (the stress of the shared pair has no row of its own in the O(k) form) —
 goes to the dense path if its size allows (:data:`symkin.model.validation.DENSE_ANALYSIS_BYTES`),
@@ -210,7 +214,8 @@ class SparseStresses(Sequence):
         except TypeError:
             return NotImplemented
 
-    __hash__ = None
+    def __hash__(self) -> int:
+        return hash(tuple(self))
 
     def __reduce__(self):
         return tuple, (tuple(self),)
