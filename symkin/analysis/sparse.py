@@ -39,13 +39,14 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sps
+from scipy.sparse.linalg import ArpackNoConvergence
 
 from symkin.analysis.relations import Relation
 from symkin.errors import ModelError, Problem, SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.model.validation import dense_size_problem
 from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
-                                   sparse_small_singular)
+                                   sparse_small_singular, svd_null_space)
 from symkin.numeric.sparse_rows import pairwise_row_count, shared_body_pairs, sparse_constraint_rows
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -127,8 +128,17 @@ def sparse_motion_fields(rows, tolerances: Tolerances) -> dict:
     jf = sps.csr_matrix(rows.J)[:, rows.free_index].tocsr()
     jf.eliminate_zeros()
     try:
-        smax, s_small, v_free, rank = sparse_small_singular(jf, tolerances.rank, tolerances.sparse_window,
-                                                            max_vectors=MAX_MOTIONS)
+        try:
+            smax, s_small, v_free, rank = sparse_small_singular(jf, tolerances.rank, tolerances.sparse_window,
+                                                                max_vectors=MAX_MOTIONS)
+        except (ArpackNoConvergence, RuntimeError):  # Lanczos or SuperLU failed: the dense SVD, if it fits
+            problem = dense_size_problem(jf.shape[0], jf.shape[1], "the sparse rank decision did not converge")
+            if problem is not None:
+                raise ModelError([problem]) from None
+            dense = jf.toarray()
+            top = float(np.linalg.norm(dense, 2)) if dense.size else 0.0
+            s_all, v_free, rank = svd_null_space(dense, tolerances.rank * top)
+            smax, s_small = top, np.sort(s_all)
     except MemoryError:
         raise ModelError([Problem("model", f"more than {MAX_MOTIONS} singular values of its {jf.shape[0]} × "
                                            f"{jf.shape[1]} constraint matrix are near zero (below "

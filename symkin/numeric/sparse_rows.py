@@ -77,43 +77,35 @@ def pairwise_row_count(mech: Mechanism) -> int:
 
 
 def shared_body_pairs(mech: Mechanism) -> list[tuple[str, str]]:
-    """Pairs of bodies (links of 3+ nodes) sharing two or more nodes (at most a few listed).
+    """Pairs of bodies (links of 3+ nodes) sharing two or more nodes (the first three found).
 
     Two bodies sharing a node pair both keep its distance: in the pairwise form the second
     copy of the pair's row is an artefact the statics removes (:mod:`symkin.analysis.statics`);
     in the O(k) form the two bodies' rows carry that stress without a row of its own, so such
-    models stay on the dense path.
+    models stay on the dense path (unless both are simplices, whose pair rows are the same).
     """
-    seen: dict[tuple[str, str], str] = {}
-    out = []
+    bodies_of: dict[str, list[str]] = {}
+    for name, ns in mech.links:
+        if len(ns) >= 3:
+            for n in ns:
+                bodies_of.setdefault(n, []).append(name)
+    seen, out = set(), []
     for name, ns in mech.links:
         if len(ns) < 3:
             continue
-        owner_of: dict[str, int] = {}
+        shared: dict[str, int] = {}
         for n in ns:
-            for other in _bodies_of(mech).get(n, ()):
+            for other in bodies_of[n]:
                 if other != name:
-                    owner_of[other] = owner_of.get(other, 0) + 1
-        for other, count in owner_of.items():
+                    shared[other] = shared.get(other, 0) + 1
+        for other, count in shared.items():
             key = tuple(sorted((name, other)))
             if count >= 2 and key not in seen:
-                seen[key] = name
+                seen.add(key)
                 out.append(key)
                 if len(out) >= 3:
                     return out
     return out
-
-
-def _bodies_of(mech: Mechanism) -> dict[str, list[str]]:
-    got = mech.__dict__.get("_sparse_bodies_of")
-    if got is None:
-        got = {}
-        for name, ns in mech.links:
-            if len(ns) >= 3:
-                for n in ns:
-                    got.setdefault(n, []).append(name)
-        mech.__dict__["_sparse_bodies_of"] = got
-    return got
 
 
 def sparse_constraint_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> SparseRows:
