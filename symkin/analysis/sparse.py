@@ -62,7 +62,8 @@ LARGE_ROWS = 2000
 #: singular values below the window (:attr:`Tolerances.sparse_window`) beyond which a large
 #: model is refused: its motion space would be a dense (coordinates × motions) matrix
 MAX_MOTIONS = 2000
-#: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`)
+#: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`):
+#: 8 first (a report shows 5), then as many as already computed, up to this many
 CHUNK = 256
 
 
@@ -178,7 +179,7 @@ class SparseStresses(Sequence):
     """The self-stresses of a large model: a sequence of :class:`~symkin.analysis.relations.Relation`.
 
     Its length (the number of independent self-stresses) is known at once; the stresses are
-    computed when read, :data:`CHUNK` at a time (one sparse solve each, checked by the rank
+    computed when read, in chunks of up to :data:`CHUNK` (one sparse solve each, checked by the rank
     test), so that a report showing a few of them does not pay for thousands.  Reading all
     of them (``--json``, ``tuple(...)``) computes all.  Equal to a tuple of the same
     relations; pickles as that tuple.
@@ -235,7 +236,7 @@ class SparseStresses(Sequence):
 
     def _more(self) -> None:
         start = len(self._done)
-        w = self._fundamental.columns(start, start + CHUNK, self._tol.rank)
+        w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank)
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
         if not np.all(residual <= self._tol.rank * self._smax * norms):  # ill-conditioned rows: dense
