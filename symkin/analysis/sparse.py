@@ -236,7 +236,8 @@ class SparseStresses(Sequence):
 
     def _more(self) -> None:
         start = len(self._done)
-        w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank)
+        # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
+        w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank ** 1.5)
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
         if not np.all(residual <= self._tol.rank * self._smax * norms):  # ill-conditioned rows: dense

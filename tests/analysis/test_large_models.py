@@ -194,6 +194,9 @@ def test_spatial_truss_counts():
     grounded = sum(1 for a, b in data["links"].values() if {a, b} <= set(data["fixed"]))
     assert grounded == 2
     assert s.redundant_constraints == d.redundant_constraints == (bars - grounded) - (3 * n - 9)
+    # the same stresses (the dense canonical form rounds its entries at 1e-8 of the largest)
+    labels = sorted({label for a in (d, s) for r in a.self_stresses for label, _ in r.coefficients})
+    assert _span_distance(_stress_matrix(d.self_stresses, labels), _stress_matrix(s.self_stresses, labels)) <= 1e-8
 
 
 # ---------------------------------------------------------------------- invariance
