@@ -129,9 +129,10 @@ def sparse_constraint_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) ->
     pts = [c for _, c in mech.nodes]
     xyz = np.array(pts, dtype=float).reshape(len(pts), dim)
 
-    # ---- pass 1: every pair row (bars, simplex bodies, frames), and the bodies' affine rows
-    pairs, pair_owner, pieces = [], [], []  # pieces: ("pairs", start, end) | ("affine", data)
-    internal_groups = []  # (row offset later known) per body with fixed nodes
+    # ---- every pair row (bars, simplex bodies, the frames of the other bodies)
+    pairs, pair_owner = [], []
+    pieces = []  # per O(k)-form body: (name, node names, node positions, frame, first and end pair rows)
+    internal_groups = []  # (rows, frame nodes) of each O(k)-form body with fixed nodes
     for name, ns in mech.links:
         idx = [index[n] for n in ns]
         if len(idx) == 2:
