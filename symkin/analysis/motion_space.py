@@ -26,7 +26,7 @@ from functools import cached_property
 
 import numpy as np
 
-from symkin.analysis import indicators
+from symkin.analysis import indicators, sparse
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, parameters_matrix, plan,
                                              rotation_rows)
@@ -91,8 +91,6 @@ def rows_for(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Configuration
     dense path that the sparse path cannot take is refused
     (:func:`~symkin.analysis.sparse.check_dense_size`).
     """
-    from symkin.analysis import sparse
-
     if sparse.is_large(mech):
         return sparse.sparse_rows(mech, tolerances)
     sparse.check_dense_size(mech)
@@ -278,10 +276,8 @@ def motion_space_of(rows: ConfigurationRows, tolerances: Tolerances = DEFAULT) -
     """
     mech = rows.mechanism
     if rows.sparse is not None:
-        from symkin.analysis.sparse import sparse_motion_fields
-
         return MotionSpace._of(mechanism=mech, tolerances=tolerances, _restricted={}, given=rows.parameters,
-                               **sparse_motion_fields(rows, tolerances),
+                               **sparse.sparse_motion_fields(rows, tolerances),
                                **({} if rows.xyz is None else {"xyz": rows.xyz}))
     free_index = rows.free_index
     jf = rows.J.take(free_index, axis=1)
