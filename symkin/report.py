@@ -107,6 +107,8 @@ def _statics_sentences(a) -> list[str]:
     k = a.redundant_constraints
     if k == 0:
         return ["No self-stress: the structure is statically determinate."] if a.structure and a.dof == 0 else []
+    if not len(a.self_stresses):  # a large model whose stresses are counted, not listed (see the warnings)
+        return [f"{_plural(k, 'redundant constraint')} (self-stresses counted, not listed: see the warning)."]
     shown = a.self_stresses if len(a.self_stresses) <= LISTED else a.self_stresses[:SUMMARISED]
     labels = [label for r in shown for label, _ in r.coefficients]
     bars = all("[" not in x and ":" not in x for x in labels)

@@ -406,6 +406,8 @@ def classify(rows: ConfigurationRows, tol: float | Tolerances | None = None) -> 
     warnings = topology_warnings(mech)
     if (w := mobility_warning(mech, L)) is not None:
         warnings += (w,)
+    if statics.warning is not None:
+        warnings += (statics.warning,)
 
     return Analysis._of(
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),

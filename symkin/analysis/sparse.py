@@ -194,34 +194,43 @@ class SparseStresses(Sequence):
         self._count = count
         self._done: list[Relation] = []
         self._fundamental = None
+        self.unlisted: str | None = None  # why the stresses are not listed (their count still is)
         if count > 0:
             try:
                 dependent = sparse_dependent_rows(self._ju, count, tolerances.sparse_gram)
                 self._fundamental = FundamentalStresses(self._ju, dependent, ms.V_free)
             except RuntimeError:  # SuperLU: the rows chosen are singular
                 self._dense()
+            else:
+                self._more()  # the first few at once: a poor choice of rows shows here, at analysis time
 
-    def __len__(self) -> int:
+    @property
+    def count(self) -> int:
+        """The number of independent self-stresses (exact, also when they are not listed)."""
         return self._count
 
+    def __len__(self) -> int:
+        return 0 if self.unlisted else self._count
+
     def __getitem__(self, i):
+        n = len(self)
         if isinstance(i, slice):
-            return tuple(self[k] for k in range(*i.indices(self._count)))
+            return tuple(self[k] for k in range(*i.indices(n)))
         if i < 0:
-            i += self._count
-        if not 0 <= i < self._count:
+            i += n
+        if not 0 <= i < n:
             raise IndexError(i)
         while len(self._done) <= i:
             self._more()
         return self._done[i]
 
     def __iter__(self):
-        for k in range(self._count):
+        for k in range(len(self)):
             yield self[k]
 
     def __eq__(self, other) -> bool:
         try:
-            return len(other) == self._count and all(a == b for a, b in zip(self, other))
+            return len(other) == len(self) and all(a == b for a, b in zip(self, other))
         except TypeError:
             return NotImplemented
 
@@ -240,8 +249,14 @@ class SparseStresses(Sequence):
         w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank ** 1.5)
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
-        if not np.all(residual <= self._tol.rank * self._smax * norms):  # ill-conditioned rows: dense
+        # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
+        # above the rank tolerance of its norm (else the stresses are not independent at the threshold:
+        # the rows chosen as a basis are dependent there)
+        ok = (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
+        if not np.all(ok):  # ill-conditioned rows: the dense left null space, if it fits
             self._dense()
+            if self.unlisted and start:  # found late, after some were read
+                raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
             return
         for c in range(w.shape[1]):
             lo, hi = w.indptr[c], w.indptr[c + 1]
@@ -255,9 +270,11 @@ class SparseStresses(Sequence):
 
     def _dense(self) -> None:
         """All stresses from the dense left null space (when the sparse choice of rows failed)."""
-        problem = dense_size_problem(self._ju.shape[0], self._ju.shape[1], "the sparse self-stresses failed")
+        problem = dense_size_problem(self._ju.shape[0], self._ju.shape[1], "the rows the sparse path chose "
+                                     "as a basis are not one at the rank threshold")
         if problem is not None:
-            raise SymkinError(f"the self-stresses cannot be listed: {problem.message}")
+            self.unlisted = problem.message
+            return
         basis = left_null_space(self._ju.toarray(), self._tol.rank * self._smax)[:, : self._count]
         self._done = []
         for c in range(basis.shape[1]):

@@ -85,11 +85,16 @@ class Statics:
         rows (coefficient 1 on the dependent row), a sequence computed when read.
     artefacts : int
         Number of excluded stresses internal to the rows that model rigid bodies.
+    warning : str or None
+        Why the self-stresses of a large model are not listed (their number is exact):
+        the sparse path found no well-conditioned basis of rows and the dense left null
+        space would not fit (:mod:`symkin.analysis.sparse`); None otherwise.
     """
 
     redundant_constraints: int
     self_stresses: tuple[Relation, ...]
     artefacts: int
+    warning: str | None = None
 
 
 def constraint_labels(mech: Mechanism, owners) -> tuple[str, ...]:
@@ -247,4 +252,7 @@ def _sparse_statics(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances) ->
     from symkin.analysis.sparse import sparse_stresses
 
     stresses, artefacts = sparse_stresses(mech, ms, tolerances)
-    return Statics(redundant_constraints=len(stresses), self_stresses=stresses, artefacts=artefacts)
+    warning = None if not stresses.unlisted else \
+        f"the {stresses.count} self-stresses are counted but not listed: {stresses.unlisted}"
+    return Statics(redundant_constraints=stresses.count, self_stresses=stresses, artefacts=artefacts,
+                   warning=warning)
