@@ -302,3 +302,33 @@ def test_both_paths_count_pyrigi_s_stresses_on_its_framework_database(name, args
     d, s = _both(mech)
     assert d.redundant_constraints == s.redundant_constraints == expected
     assert d.dof == s.dof
+
+
+def _bad_choice(a, count, regularisation):
+    """A wrong choice of dependent rows: the first ``count`` (the grid's lower part); the rows left are
+    not a basis, so SuperLU or the checks of the stresses reject the choice."""
+    return np.arange(count)
+
+
+def test_a_poor_choice_of_rows_falls_back_to_the_dense_stresses(monkeypatch):
+    data = bench.planar_truss(15, 20)
+    mech = symkin.Mechanism.from_dict(data)
+    d = classify(model_rows(mech), DEFAULT)
+    monkeypatch.setattr(sparse, "sparse_dependent_rows", _bad_choice)
+    a = symkin.analyze(mech)
+    assert a.redundant_constraints == len(a.self_stresses) == 234 and not a.warnings
+    labels = sorted({label for x in (a, d) for r in x.self_stresses for label, _ in r.coefficients})
+    assert _span_distance(_stress_matrix(d.self_stresses, labels), _stress_matrix(a.self_stresses, labels)) <= 1e-8
+
+
+def test_stresses_are_counted_not_listed_when_the_dense_fallback_does_not_fit(monkeypatch):
+    import symkin.model.validation as validation
+
+    mech = symkin.Mechanism.from_dict(bench.planar_truss(15, 20))
+    monkeypatch.setattr(sparse, "sparse_dependent_rows", _bad_choice)
+    monkeypatch.setattr(validation, "DENSE_ANALYSIS_BYTES", 1000)
+    a = symkin.analyze(mech)
+    assert (a.dof, a.redundant_constraints, len(a.self_stresses)) == (0, 234, 0)
+    assert any("234 self-stresses are counted but not listed" in w for w in a.warnings)
+    assert "234 redundant constraints (self-stresses counted, not listed: see the warning)." in render_text(a)
+    assert json.loads(json.dumps(a.to_dict()))["redundant_constraints"] == 234
