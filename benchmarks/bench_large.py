@@ -154,7 +154,7 @@ def _one(kind: str, n: int, what: str, folder: str) -> dict:
         t = time.perf_counter()
         json.dumps(a.to_dict())
         out["json"] = time.perf_counter() - t
-        out.update(dof=a.dof, stresses=a.redundant_constraints)
+        out.update(dof=a.dof, stresses=a.redundant_constraints, listed=len(a.self_stresses))
     elif what == "dense":
         t = time.perf_counter()
         a = classify(model_rows(mech))
@@ -257,7 +257,8 @@ def _print(rows) -> None:
               f"text {_fmt(r.get('text'))}, json {_fmt(r.get('json'))}, CLI {_fmt(r.get('cli'))}, "
               f"peak {_fmt(r['peak_mb'], 'MB')} (+{_fmt(r['case_mb'], 'MB')} for the case, "
               f"+{_fmt(r.get('text_mb'), 'MB')} up to the text report); "
-              f"DOF {r['dof']}, {r['stresses']} self-stresses", flush=True)
+              f"DOF {r['dof']}, {r['stresses']} self-stresses"
+              + (f" ({r['listed']} listed)" if r.get("listed", r["stresses"]) != r["stresses"] else ""), flush=True)
 
 
 def _summary(rows) -> None:
