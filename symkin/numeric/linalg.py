@@ -312,6 +312,7 @@ class FundamentalStresses:
         import scipy.sparse as sps
         import scipy.sparse.linalg as spla
         from scipy.linalg import qr
+        from scipy.sparse.csgraph import structural_rank
 
         a = sps.csr_matrix(a)
         self.shape = a.shape
@@ -323,7 +324,11 @@ class FundamentalStresses:
         self.dependent = np.asarray(dependent, dtype=int)
         self.basis = np.setdiff1d(np.arange(m), self.dependent)
         self.count = self.dependent.size
-        self._lu = spla.splu(a[self.basis][:, keep].T.tocsc()) if self.count else None
+        b = a[self.basis][:, keep].T.tocsc()
+        # SuperLU may crash (not raise) on a structurally singular matrix: refuse those first
+        if self.count and structural_rank(b) < min(b.shape):
+            raise RuntimeError("the rows chosen as a basis are structurally singular")
+        self._lu = spla.splu(b) if self.count else None
         self._dep = a[self.dependent][:, keep].tocsr()
         self._n = keep.size
 
