@@ -6,7 +6,15 @@ from __future__ import annotations
 
 from symkin.kinds import Kind, describe
 
-__all__ = ["render_text", "render_markdown"]
+__all__ = ["render_text", "render_markdown", "LISTED", "SUMMARISED", "LARGEST"]
+
+#: self-stresses (and relations) listed in full in the text report up to this many; beyond,
+#: the report gives their number and, for the first :data:`SUMMARISED`, the constraints with
+#: the :data:`LARGEST` largest coefficients (a large model's thousands of stresses would bury
+#: the report; ``--json`` lists every one, every coefficient)
+LISTED = 20
+SUMMARISED = 5
+LARGEST = 4
 
 
 
@@ -62,12 +70,10 @@ def _mechanism_sentences(a) -> list[str]:
         out.append(f"IM indicator (eigenvalue λ_{f + 1} of the reduced geometric matrix): {a.im_indicator:.6g}.")
     if a.input_rank is not None:
         out.append(_rank_sentence("inputs", a.input_labels, a.input_rank, f, Kind.DKP_INPUT in a.types))
-        for r in a.input_relations:
-            out.append(f"  input relation (r = {r.r}): {r}")
+        out += _listed(a.input_relations, lambda n, r: f"  input relation (r = {r.r}): {r}", "input relations", "input relation")
     if a.output_rank is not None:
         out.append(_rank_sentence("outputs", a.output_labels, a.output_rank, f, Kind.DKP_OUTPUT in a.types))
-        for r in a.output_relations:
-            out.append(f"  output relation (r = {r.r}): {r}")
+        out += _listed(a.output_relations, lambda n, r: f"  output relation (r = {r.r}): {r}", "output relations", "output relation")
     if a.locked_links:
         out.append(f"Locked links (no motion whatever the inputs): {', '.join(a.locked_links)}.")
     if a.locked_nodes:
@@ -79,20 +85,42 @@ def _stress(rel) -> str:
     return ", ".join(f"{label} {c:+.4g}" for label, c in rel.coefficients)
 
 
+def _largest(rel) -> str:
+    """The :data:`LARGEST` largest coefficients of a relation, largest first, and how many there are."""
+    top = sorted(rel.coefficients, key=lambda lc: -abs(lc[1]))[:LARGEST]
+    more = f", … ({rel.r} constraints)" if rel.r > len(top) else ""
+    return ", ".join(f"{label} {c:+.4g}" for label, c in top) + more
+
+
+def _listed(items, line, what: str, one: str) -> list[str]:
+    """``line(k, item)`` for each item, or, beyond :data:`LISTED`, a summary of the first few."""
+    n = len(items)
+    if n <= LISTED:
+        return [line(k, items[k - 1]) for k in range(1, n + 1)]
+    out = [f"  ({n} {what}: more than {LISTED}, so the first {SUMMARISED} are shown by their {LARGEST} "
+           f"largest coefficients; --json lists all of them in full)"]
+    return out + [f"  {one} {k}: {_largest(items[k - 1])}" for k in range(1, SUMMARISED + 1)]
+
+
 def _statics_sentences(a) -> list[str]:
     """Redundant constraints and their self-stresses (forces up to a common factor, tension +)."""
     k = a.redundant_constraints
     if k == 0:
         return ["No self-stress: the structure is statically determinate."] if a.structure and a.dof == 0 else []
-    labels = [label for r in a.self_stresses for label, _ in r.coefficients]
+    if not len(a.self_stresses):  # a large model whose stresses are counted, not listed (see the warnings)
+        return [f"{_plural(k, 'redundant constraint')} (self-stresses counted, not listed: see the warning)."]
+    shown = a.self_stresses if len(a.self_stresses) <= LISTED else a.self_stresses[:SUMMARISED]
+    labels = [label for r in shown for label, _ in r.coefficients]
     bars = all("[" not in x and ":" not in x for x in labels)
     # the link (or slider) that owns each row: coupler[B-C] → coupler, slider:s → slider s
     owners = dict.fromkeys(x.replace("slider:", "slider ").split("[")[0].split(":rigidity")[0] for x in labels)
     where = ("bars " if bars else "") + ", ".join(owners)
     head = f"{_plural(k, 'redundant constraint')}: " + (f"a self-stress in {where}" if k == 1 else
-                                                          f"{k} independent self-stresses in {where}")
+                                                          f"{k} independent self-stresses in {where}"
+                                                          if len(a.self_stresses) <= LISTED else
+                                                          f"{k} independent self-stresses")
     out = [head + " (forces up to a common factor, tension positive):"]
-    out += [f"  self-stress {n}: {_stress(r)}" for n, r in enumerate(a.self_stresses, 1)]
+    out += _listed(a.self_stresses, lambda n, r: f"  self-stress {n}: {_stress(r)}", "self-stresses", "self-stress")
     return out
 
 
@@ -114,8 +142,7 @@ def _sentences(a) -> list[str]:
         msg = f"The platform (link {a.platform}) has {a.platform_dof} instantaneous DOF (generic {a.platform_dof_generic})"
         msg += "; this exceeds the generic DOF: constraint singularity." if Kind.CONSTRAINT in a.types else "."
         out.append(msg)
-        for r in a.platform_relations:
-            out.append(f"  platform relation (r = {r.r}): {r}")
+        out += _listed(a.platform_relations, lambda n, r: f"  platform relation (r = {r.r}): {r}", "platform relations", "platform relation")
     if a.uncontrolled_motions:
         out.append(f"With every input locked, {len(a.uncontrolled_motions)} uncontrolled motion(s) remain "
                    "(nodal velocities, scaled to a largest component of 1):")

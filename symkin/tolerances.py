@@ -103,6 +103,21 @@ class Tolerances:
     branch_step : float
         Steps at which the half-branch search around a vertex stops (Newton on the reduced
         unknown, Brent on the angle; default ``1e-15``: a few roundings).
+    sparse_window : float
+        Large models (:mod:`symkin.analysis.sparse`): every singular value of the constraint
+        matrix at or below ``sparse_window · σ_max`` is computed accurately (Lanczos in
+        shift-invert mode on ``G = JᵀJ``, then a Rayleigh–Ritz step on ``J``) and compared with
+        the ``rank`` threshold; those above it are not computed.  Default ``1e-4``: four decades
+        above the default rank threshold (no rank decision depends on a value not computed),
+        and below the smallest nonzero singular value of ordinary trusses of 10,000 nodes
+        (about ``1/N`` for N nodes along a side), so that few vectors are computed.
+    sparse_gram : float
+        Large models: the Gram matrix ``J Jᵀ + δ I`` whose ``L D Lᵀ`` pivots pick the dependent
+        rows (the pivots of the rows that depend on rows before them are ``≈ δ``, the others
+        the squared distance of a row from the rows before it, rows of unit norm); default
+        ``1e-15``, at the rounding of an O(1) Gram matrix, so that an independent row a
+        distance above ~1e-6 from the others is never taken for a dependent one.  The choice
+        is verified: each self-stress it gives must pass the ``rank`` test.
     kernel_margin : float
         Factor on singular values by which the generated indicator kernel must clear the
         rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
@@ -116,6 +131,8 @@ class Tolerances:
     event: float = 10.0
     near_branch: float = 1e-5
     kernel_margin: float = 100.0
+    sparse_window: float = 1e-4
+    sparse_gram: float = 1e-15
     newton: float = 1e-12
     closure: float = 1e-13
     locate: float = 1e-14

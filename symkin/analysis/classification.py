@@ -24,7 +24,7 @@ Gosselin–Angeles and Zlatanov types are derived from the same subspaces (see
 :func:`classify` is the computation: it takes the rows at a configuration
 (:class:`~symkin.analysis.motion_space.ConfigurationRows`: constraint rows, free
 coordinates, parameter rows already evaluated, the mechanism for topology and labels).
-:func:`analyze` builds those rows from the model (:func:`~symkin.analysis.motion_space.model_rows`)
+:func:`analyze` builds those rows from the model (:func:`~symkin.analysis.motion_space.rows_for`: sparse for a large model)
 and calls it; the paths stage builds them from the curve's evaluators at an event.
 """
 from __future__ import annotations
@@ -36,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from symkin.analysis import indicators
-from symkin.analysis.motion_space import ConfigurationRows, MotionSpace, model_rows, motion_space_of
+from symkin.analysis.motion_space import ConfigurationRows, MotionSpace, motion_space_of, rows_for
 from symkin.analysis.relations import Relation, canonical_relations
 from symkin.analysis.statics import self_stresses
 from symkin.model.diagnostics import mobility_warning, topology_warnings
@@ -242,8 +242,12 @@ def _dkp_values(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances, p_hat:
     f = mech.mobility_value
     if ms.dof != f:
         return None, None
-    rows = indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank, nonzero=ms.effective_rows)
     k_in = mech.n_inputs
+    if not p_hat.shape[0]:
+        return None, None
+    # a large model (sparse rows): the unsigned values, no J_S
+    rows = None if ms.sparse is not None else \
+        indicators.basis_rows(ms.J, f, tolerances, rank=ms.rank, nonzero=ms.effective_rows)
     sides = ((p_hat[:k_in], singular[0], restricted[:k_in]), (p_hat[k_in:], singular[1], restricted[k_in:]))
     if rows is None:
         return tuple(float(indicators.dkp_value(hat, sv, f)) if hat.shape[0] else None for hat, sv, _ in sides)
@@ -283,7 +287,7 @@ def analyze(mech: Mechanism, tol: float | Tolerances | None = None) -> Analysis:
     (1, ())
     """
     tolerances = Tolerances.of(tol)
-    return classify(model_rows(mech, tolerances), tolerances)
+    return classify(rows_for(mech, tolerances), tolerances)
 
 
 def classify(rows: ConfigurationRows, tol: float | Tolerances | None = None) -> Analysis:
@@ -402,6 +406,8 @@ def classify(rows: ConfigurationRows, tol: float | Tolerances | None = None) -> 
     warnings = topology_warnings(mech)
     if (w := mobility_warning(mech, L)) is not None:
         warnings += (w,)
+    if statics.warning is not None:
+        warnings += (statics.warning,)
 
     return Analysis._of(
         name=mech.name, dim=mech.dim, dof=L, mobility=f, types=tuple(types),

@@ -26,14 +26,14 @@ from functools import cached_property
 
 import numpy as np
 
-from symkin.analysis import indicators
+from symkin.analysis import indicators, sparse
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, parameters_matrix, plan,
                                              rotation_rows)
 from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["ConfigurationRows", "MotionSpace", "model_rows", "motion_space", "motion_space_of"]
+__all__ = ["ConfigurationRows", "MotionSpace", "model_rows", "rows_for", "motion_space", "motion_space_of"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,6 +57,10 @@ class ConfigurationRows:
         (rows (k, D), labels)``, physical units, as
         :func:`~symkin.numeric.geometric_matrix.parameters_matrix` gives them; any other
         list is computed from the mechanism at ``xyz``.
+    sparse : SparseRows or None
+        For a large model (:mod:`symkin.analysis.sparse`): ``J`` is then a
+        ``scipy.sparse`` matrix and this the
+        :class:`~symkin.numeric.sparse_rows.SparseRows` it comes from (owners, artefacts).
     """
 
     mechanism: Mechanism
@@ -64,6 +68,7 @@ class ConfigurationRows:
     free_index: np.ndarray
     xyz: np.ndarray | None = None
     parameters: dict = field(default_factory=dict)
+    sparse: object = None
 
 
 def model_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> ConfigurationRows:
@@ -77,6 +82,19 @@ def model_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> Configurati
     ((3, 8), [2, 3, 4, 5])
     """
     return ConfigurationRows(mech, constraint_rows(mech, tolerances).matrix, plan(mech.topology).free_index)
+
+
+def rows_for(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> ConfigurationRows:
+    """The rows :func:`symkin.analyze` and :func:`motion_space` use: sparse for a large model.
+
+    The size switch is :func:`symkin.analysis.sparse.is_large`; a model too large for the
+    dense path that the sparse path cannot take is refused
+    (:func:`~symkin.analysis.sparse.check_dense_size`).
+    """
+    if sparse.is_large(mech):
+        return sparse.sparse_rows(mech, tolerances)
+    sparse.check_dense_size(mech)
+    return model_rows(mech, tolerances)
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,6 +125,10 @@ class MotionSpace:
         The rows of ``V`` of the free coordinates (``V`` without its zero rows).
     given : dict
         Parameter rows evaluated with the constraint rows (:attr:`ConfigurationRows.parameters`).
+    sparse : SparseRows or None
+        Set for a large model (:mod:`symkin.analysis.sparse`): ``J`` is then a
+        ``scipy.sparse`` matrix, ``U`` is None, and ``singular_values`` holds only the
+        smallest singular values (those at or below ``sparse_window · σ_max`` and the next).
 
     The configuration is :attr:`xyz`: the mechanism's own coordinates, or those of the
     :class:`ConfigurationRows` the space was computed from.
@@ -122,6 +144,7 @@ class MotionSpace:
     J: np.ndarray | None = field(default=None, repr=False)
     U: np.ndarray | None = field(default=None, repr=False)
     V_free: np.ndarray | None = field(default=None, repr=False)
+    sparse: object = field(default=None, repr=False)
     _restricted: dict = field(default_factory=dict, repr=False)
     given: dict = field(default_factory=dict, repr=False)
 
@@ -140,7 +163,11 @@ class MotionSpace:
     @cached_property
     def effective_rows(self) -> np.ndarray:
         """Indices of the rows of ``J`` that touch a free coordinate (not a bar between fixed nodes)."""
-        return np.flatnonzero(self.J.any(axis=1)) if self.J is not None else np.zeros(0, int)
+        if self.J is None:
+            return np.zeros(0, int)
+        if self.sparse is not None:
+            return np.flatnonzero(np.diff(self.J.indptr))  # CSR without explicit zeros
+        return np.flatnonzero(self.J.any(axis=1))
 
     @property
     def eigenvalues(self) -> np.ndarray:
@@ -197,9 +224,15 @@ class MotionSpace:
     def _restrict(self, params: tuple) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         mech = self.mechanism
         got = self.given.get(params)
+        # a large model's free coordinates without its plan (whose pair rows grow as k² for a body of k nodes)
+        free_index = self.sparse.free_index if self.sparse is not None else None
+        if got is None and not params and free_index is not None:
+            got = (np.zeros((0, self.V.shape[0])), ())
         p, labels = got if got is not None else parameters_matrix(mech, params, self.__dict__.get("xyz"))
-        hat_free, norms = indicators.unit_rows(p.take(plan(mech.topology).free_index, axis=1))
-        v_free = self.V_free if self.V_free is not None else self.V[plan(mech.topology).free_index]
+        if free_index is None:
+            free_index = plan(mech.topology).free_index
+        hat_free, norms = indicators.unit_rows(p.take(free_index, axis=1))
+        v_free = self.V_free if self.V_free is not None else self.V[free_index]
         m = hat_free @ v_free
         for a in (m, norms, hat_free):
             a.setflags(write=False)
@@ -229,7 +262,7 @@ def motion_space(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> MotionSpa
     >>> ms.rank, ms.J.shape, ms.U.shape  # 3 bars, 4 free coordinates: no self-stress
     (3, (3, 4), (3, 3))
     """
-    return motion_space_of(model_rows(mech, tolerances), tolerances)
+    return motion_space_of(rows_for(mech, tolerances), tolerances)
 
 
 def motion_space_of(rows: ConfigurationRows, tolerances: Tolerances = DEFAULT) -> MotionSpace:
@@ -242,6 +275,10 @@ def motion_space_of(rows: ConfigurationRows, tolerances: Tolerances = DEFAULT) -
     1
     """
     mech = rows.mechanism
+    if rows.sparse is not None:
+        return MotionSpace._of(mechanism=mech, tolerances=tolerances, _restricted={}, given=rows.parameters,
+                               **sparse.sparse_motion_fields(rows, tolerances),
+                               **({} if rows.xyz is None else {"xyz": rows.xyz}))
     free_index = rows.free_index
     jf = rows.J.take(free_index, axis=1)
     u, s, vt = svd_factors(jf)
@@ -254,5 +291,5 @@ def motion_space_of(rows: ConfigurationRows, tolerances: Tolerances = DEFAULT) -
     singular[jf.shape[1] - s.size:] = s[::-1]
     return MotionSpace._of(mechanism=mech, V=v, dof=v.shape[1], singular_values=singular,
                            threshold=threshold, tolerances=tolerances, rank=rank, J=jf, U=u, V_free=v_free,
-                           _restricted={}, given=rows.parameters,
+                           sparse=None, _restricted={}, given=rows.parameters,
                            **({} if rows.xyz is None else {"xyz": rows.xyz}))

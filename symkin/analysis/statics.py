@@ -34,7 +34,9 @@ nothing more is computed.
 
 Constraint labels (one per row): a bar link → its name (``coupler``); a pair inside a
 body → ``body[N1-N2]``; the rigidity rows of a degenerate body → ``body:rigidity[k]``
-(k = 1, 2, … in the body's row order); a slider → ``slider:<id>`` (``slider:<id>[k]``
+(k = 1, 2, … in the body's row order); on the sparse path of a large model
+(:mod:`symkin.analysis.sparse`), the affine row of node N along axis a of a body in its
+O(k) form → ``body:affine[N.a]`` (frame dependent); a slider → ``slider:<id>`` (``slider:<id>[k]``
 when it has several rows: a line in space).
 
 Canonical form: the stresses are put in reduced row echelon form over the rows in the
@@ -65,6 +67,7 @@ __all__ = ["Statics", "self_stresses", "constraint_labels", "frame_dependent"]
 _PAIR = re.compile(r"^link (?P<link>.+) \((?P<a>[^()]+)-(?P<b>[^()]+)\)$")
 _RIGIDITY = re.compile(r"^link (?P<link>.+) \(rigidity out of its hull\)$")
 _SLIDER = re.compile(r"^slider (?P<id>.+)$")
+_AFFINE = re.compile(r"^link (?P<link>.+) \(affine (?P<node>[^()]+)\)$")
 
 
 @dataclass(frozen=True)
@@ -77,14 +80,21 @@ class Statics:
         Number of independent self-stresses (modelling artefacts excluded).
     self_stresses : tuple of Relation
         One per independent self-stress, ``{constraint label: coefficient}``, canonical
-        (reduced row echelon over the rows' order, pivot 1, exact zeros).
+        (reduced row echelon over the rows' order, pivot 1, exact zeros).  For a large
+        model (:mod:`symkin.analysis.sparse`): the fundamental stresses of its dependent
+        rows (coefficient 1 on the dependent row), a sequence computed when read.
     artefacts : int
         Number of excluded stresses internal to the rows that model rigid bodies.
+    warning : str or None
+        Why the self-stresses of a large model are not listed (their number is exact):
+        the sparse path found no well-conditioned basis of rows and the dense left null
+        space would not fit (:mod:`symkin.analysis.sparse`); None otherwise.
     """
 
     redundant_constraints: int
     self_stresses: tuple[Relation, ...]
     artefacts: int
+    warning: str | None = None
 
 
 def constraint_labels(mech: Mechanism, owners) -> tuple[str, ...]:
@@ -116,6 +126,8 @@ def _labels(sizes: tuple, owners: tuple) -> tuple[str, ...]:
             out.append(link if sizes.get(link) == 2 else f"{link}[{m['a']}-{m['b']}]")
         elif m := _RIGIDITY.match(o):
             out.append(f"{m['link']}:rigidity[{k}]")
+        elif m := _AFFINE.match(o):
+            out.append(f"{m['link']}:affine[{m['node']}]")
         elif m := _SLIDER.match(o):
             out.append(f"slider:{m['id']}" if counts[o] == 1 else f"slider:{m['id']}[{k}]")
         else:  # a new kind of row in the core: keep its owner as the label
@@ -133,7 +145,7 @@ def frame_dependent(label: str) -> bool:
     >>> frame_dependent("coupler[B-C]"), frame_dependent("platform:rigidity[1]"), frame_dependent("slider:s[2]")
     (False, True, True)
     """
-    return ":rigidity[" in label or (label.startswith("slider:") and label.endswith("]"))
+    return ":rigidity[" in label or ":affine[" in label or (label.startswith("slider:") and label.endswith("]"))
 
 
 def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float) -> np.ndarray:
@@ -209,6 +221,8 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
     (1, [1.0, 3.0, -4.0])
     """
     ms = motion if motion is not None else motion_space(mech, tolerances)
+    if ms.sparse is not None:
+        return _sparse_statics(mech, ms, tolerances)
     jf = ms.J  # the reduced constraint rows the motion space was computed from
     touching = ms.effective_rows
     rank = ms.rank  # the motion space's own rank decision
@@ -231,3 +245,14 @@ def self_stresses(mech: Mechanism, tolerances: Tolerances = DEFAULT,
     relations = canonical_relations(stresses[order], [labels[r] for r in order], tolerances.rank)
     return Statics(redundant_constraints=stresses.shape[1], self_stresses=relations,
                    artefacts=count - stresses.shape[1])
+
+
+def _sparse_statics(mech: Mechanism, ms: MotionSpace, tolerances: Tolerances) -> Statics:
+    """:func:`self_stresses` of a large model: fundamental stresses, computed when read (:mod:`symkin.analysis.sparse`)."""
+    from symkin.analysis.sparse import sparse_stresses
+
+    stresses, artefacts = sparse_stresses(mech, ms, tolerances)
+    warning = None if not stresses.unlisted else \
+        f"the {stresses.count} self-stresses are counted but not listed: {stresses.unlisted}"
+    return Statics(redundant_constraints=stresses.count, self_stresses=stresses, artefacts=artefacts,
+                   warning=warning)

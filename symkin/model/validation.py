@@ -713,3 +713,37 @@ def _parallel(a, b) -> bool:
     cross = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
     na, nb = math.sqrt(sum(v * v for v in a)), math.sqrt(sum(v * v for v in b))
     return math.sqrt(sum(v * v for v in cross)) <= _ALIGNED * na * nb
+
+
+# ---------------------------------------------------------------------- size of the dense analysis (issue 19)
+#: bytes the dense analysis of one configuration may take (the constraint matrix in the
+#: paper's pairwise form, its full SVD and a copy); a model above it that the sparse path
+#: cannot take (:mod:`symkin.analysis.sparse`) is refused with its size, never a NumPy
+#: memory error.  2 GiB: a dense ``J`` of about 8,000 × 8,000, beyond what the dense path
+#: analyses in minutes.
+DENSE_ANALYSIS_BYTES = 2 * 1024 ** 3
+
+
+def dense_analysis_bytes(rows: int, columns: int) -> int:
+    """Bytes of a dense analysis of ``rows`` constraint rows over ``columns`` free coordinates.
+
+    The reduced ``J`` and a copy, its left singular vectors (rows × rows) and right ones
+    (columns × columns), in float64.
+
+    >>> dense_analysis_bytes(499_500, 2_000) > DENSE_ANALYSIS_BYTES
+    True
+    """
+    return 8 * (2 * rows * columns + rows * rows + columns * columns)
+
+
+def dense_size_problem(rows: int, columns: int, why: str) -> Problem | None:
+    """A :class:`~symkin.errors.Problem` when the dense analysis would exceed :data:`DENSE_ANALYSIS_BYTES`.
+
+    ``why`` says why the model is not taken by the sparse path.
+    """
+    need = dense_analysis_bytes(rows, columns)
+    if need <= DENSE_ANALYSIS_BYTES:
+        return None
+    return Problem("model", f"too large for the dense analysis: {rows} constraint rows over {columns} free "
+                            f"coordinates need about {need / 1024 ** 3:.1f} GiB, above the limit of "
+                            f"{DENSE_ANALYSIS_BYTES / 1024 ** 3:.0f} GiB ({why})")

@@ -1,0 +1,310 @@
+"""Large models: the motion space and the self-stresses from sparse rows (issue 19).
+
+The dense path (:mod:`symkin.analysis.motion_space`, :mod:`symkin.analysis.statics`) takes
+one full SVD of the constraint matrix in the paper's pairwise form: exact and simple, but
+cubic in the model's size.  A model above the **size switch** (:func:`is_large`: more than
+:data:`LARGE_COORDINATES` free coordinates, or more than :data:`LARGE_ROWS` rows in the
+pairwise form) takes this path instead:
+
+* the rows are :func:`symkin.numeric.sparse_rows.sparse_constraint_rows` (the same bar and
+  slider rows; a rigid body of k nodes in O(k) rows);
+* the rank, the singular values near zero and the motion space come from
+  :func:`symkin.numeric.linalg.sparse_small_singular` (Lanczos on ``JᵀJ`` in shift-invert
+  mode, then a Rayleigh–Ritz step on ``J``): the rank is decided, as on the dense path, by
+  ``σ <= rank · σ_max`` on singular values of ``J`` accurate to rounding;
+* the self-stresses are the **fundamental** stresses of the dependent rows
+  (:func:`symkin.numeric.linalg.sparse_dependent_rows`,
+  :class:`~symkin.numeric.linalg.FundamentalStresses`): one per dependent row ``k``,
+  with coefficient 1 on row k, each checked (``‖Jᵀω‖ <= rank · σ_max · ‖ω‖``, the rank
+  test), computed when read (:class:`SparseStresses`).  They span the same space as the dense path's canonical (reduced row echelon)
+  stresses, but are not that canonical basis: the echelon form of thousands of stresses
+  is dense, theirs stay as sparse as the structure lets them (a stress local to a few bars
+  stays on them).
+
+The count of self-stresses is the dense path's: rows touching a free coordinate, minus the
+rank, minus the modelling artefacts (here: the rows of a body made dependent on its own
+rows by fixed nodes, and the second copy of a node pair shared by two simplex bodies).
+On this path the signed DKP values (:func:`symkin.analysis.indicators.dkp_value`) of a
+mechanism are given unsigned: their sign is relative to the independent rows ``J_S``,
+which a pivoted QR of the whole ``J`` would choose.
+
+A model that this path cannot take — two bodies, one of more than ``dim + 1`` nodes,
+sharing two nodes (the stress of the shared pair has no row of its own in the O(k) form) —
+goes to the dense path if its size allows (:data:`symkin.model.validation.DENSE_ANALYSIS_BYTES`),
+else it is refused with its size and the limit.
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.sparse as sps
+from scipy.sparse.linalg import ArpackNoConvergence
+
+from symkin.analysis.relations import Relation
+from symkin.errors import ModelError, Problem, SymkinError
+from symkin.model.mechanism import Mechanism
+from symkin.model.validation import dense_size_problem
+from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
+                                   sparse_small_singular, svd_null_space)
+from symkin.numeric.sparse_rows import pairwise_row_count, shared_body_pairs, sparse_constraint_rows
+from symkin.tolerances import DEFAULT, Tolerances
+
+__all__ = ["LARGE_COORDINATES", "LARGE_ROWS", "MAX_MOTIONS", "is_large", "check_dense_size", "sparse_rows",
+           "sparse_motion_fields", "sparse_stresses", "SparseStresses"]
+
+#: free coordinates above which :func:`symkin.analyze` takes the sparse path (a dense SVD of
+#: 400 × 600 takes ~0.1 s; the sparse path is faster above ~300 coordinates and its cost is
+#: about linear, the dense one cubic)
+LARGE_COORDINATES = 400
+#: rows of the paper's pairwise form above which the sparse path is taken (a body of 64+ nodes)
+LARGE_ROWS = 2000
+#: singular values below the window (:attr:`Tolerances.sparse_window`) beyond which a large
+#: model is refused: its motion space would be a dense (coordinates × motions) matrix
+MAX_MOTIONS = 2000
+#: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`):
+#: 8 first (a report shows 5), then as many as already computed, up to this many
+CHUNK = 256
+
+
+def _free_count(mech: Mechanism) -> int:
+    return mech.dim * (len(mech.nodes) - len(set(mech.fixed)))
+
+
+def _not_sparse(mech: Mechanism) -> str | None:
+    """Why the sparse path cannot take ``mech`` (None when it can)."""
+    shared = [(a, b) for a, b in shared_body_pairs(mech)
+              if max(len(mech.link_nodes(a)), len(mech.link_nodes(b))) > mech.dim + 1]
+    if shared:
+        a, b = shared[0]
+        return f"links {a} and {b} share two or more nodes, which the sparse path does not take"
+    return None
+
+
+_ROUTES: dict = {}
+
+
+def _route(mech: Mechanism) -> tuple[bool, Problem | None]:
+    """``(sparse?, problem of the dense path)`` of ``mech``'s topology (computed once per topology)."""
+    got = _ROUTES.get(mech.topology)
+    if got is None:
+        rows, cols = pairwise_row_count(mech), _free_count(mech)
+        large = rows > LARGE_ROWS or cols > LARGE_COORDINATES
+        why = _not_sparse(mech) if large or dense_size_problem(rows, cols, "") is not None else None
+        problem = None if large and why is None else \
+            dense_size_problem(rows, cols, why or "the sparse path is for larger models")
+        if len(_ROUTES) > 256:
+            _ROUTES.clear()
+        got = _ROUTES[mech.topology] = (large and why is None, problem)
+    return got
+
+
+def is_large(mech: Mechanism) -> bool:
+    """Whether :func:`symkin.analyze` takes the sparse path for ``mech`` (the size switch).
+
+    >>> from symkin.model.catalogue import get
+    >>> is_large(get("fourbar_appendix"))
+    False
+    """
+    return _route(mech)[0]
+
+
+def check_dense_size(mech: Mechanism) -> None:
+    """Raise :class:`~symkin.errors.ModelError` when the dense analysis of ``mech`` would not fit."""
+    problem = _route(mech)[1]
+    if problem is not None:
+        raise ModelError([problem])
+
+
+def sparse_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT):
+    """The :class:`~symkin.analysis.motion_space.ConfigurationRows` of ``mech`` with sparse rows."""
+    from symkin.analysis.motion_space import ConfigurationRows
+
+    rows = sparse_constraint_rows(mech, tolerances)
+    return ConfigurationRows(mech, rows.matrix, rows.free_index, sparse=rows)
+
+
+def sparse_motion_fields(rows, tolerances: Tolerances) -> dict:
+    """The fields of a :class:`~symkin.analysis.motion_space.MotionSpace` from sparse ``rows``."""
+    jf = sps.csr_matrix(rows.J)[:, rows.free_index].tocsr()
+    jf.eliminate_zeros()
+    try:
+        try:
+            smax, s_small, v_free, rank = sparse_small_singular(jf, tolerances.rank, tolerances.sparse_window,
+                                                                max_vectors=MAX_MOTIONS)
+        except (ArpackNoConvergence, RuntimeError):  # Lanczos or SuperLU failed: the dense SVD, if it fits
+            problem = dense_size_problem(jf.shape[0], jf.shape[1], "the sparse rank decision did not converge")
+            if problem is not None:
+                raise ModelError([problem]) from None
+            dense = jf.toarray()
+            top = float(np.linalg.norm(dense, 2)) if dense.size else 0.0
+            s_all, v_free, rank = svd_null_space(dense, tolerances.rank * top)
+            smax, s_small = top, np.sort(s_all)
+    except MemoryError:
+        raise ModelError([Problem("model", f"more than {MAX_MOTIONS} singular values of its {jf.shape[0]} × "
+                                           f"{jf.shape[1]} constraint matrix are near zero (below "
+                                           f"{tolerances.sparse_window:g} × the largest): a motion space "
+                                           f"that large is beyond the limit of {MAX_MOTIONS} motions")]) from None
+    threshold = tolerances.rank * smax
+    v = np.zeros((rows.J.shape[1], v_free.shape[1]))
+    v[rows.free_index] = v_free
+    return dict(V=v, dof=v.shape[1], singular_values=s_small, threshold=threshold, rank=rank, J=jf, U=None,
+                V_free=v_free, sparse=rows.sparse)
+
+
+def _shared_simplex_pairs(owners, touching: np.ndarray, sizes: dict) -> dict[int, list[int]]:
+    """First row → its other copies, for each node pair shared by simplex bodies (links of 3+ nodes).
+
+    The copies after the first are artefacts (:mod:`symkin.analysis.statics`): the stresses
+    are computed without them, then the force of the pair is shared equally by its copies —
+    the representative the dense path gives (its stresses are orthogonal to the difference
+    of two copies).
+    """
+    from symkin.analysis.statics import _PAIR
+
+    first: dict[frozenset, int] = {}
+    out: dict[int, list[int]] = {}
+    for r in touching.tolist():
+        m = _PAIR.match(owners[r])
+        if m and sizes.get(m["link"], 2) >= 3:
+            key = frozenset((m["a"], m["b"]))
+            if key in first:
+                out.setdefault(first[key], []).append(r)
+            else:
+                first[key] = r
+    return out
+
+
+class SparseStresses(Sequence):
+    """The self-stresses of a large model: a sequence of :class:`~symkin.analysis.relations.Relation`.
+
+    Its length (the number of independent self-stresses) is known at once; the stresses are
+    computed when read, in chunks of up to :data:`CHUNK` (one sparse solve each, checked by the rank
+    test), so that a report showing a few of them does not pay for thousands.  Reading all
+    of them (``--json``, ``tuple(...)``) computes all.  Equal to a tuple of the same
+    relations; pickles as that tuple.
+    """
+
+    def __init__(self, mech: Mechanism, ms, tolerances: Tolerances, used: np.ndarray, copies: dict,
+                 labels: tuple, count: int):
+        self._ju = ms.J[used]
+        self._used, self._copies, self._labels = used, copies, labels
+        self._tol = tolerances
+        self._smax = ms.threshold / tolerances.rank if tolerances.rank > 0 else 1.0
+        self._count = count
+        self._done: list[Relation] = []
+        self._fundamental = None
+        self.unlisted: str | None = None  # why the stresses are not listed (their count still is)
+        if count > 0:
+            try:
+                dependent = sparse_dependent_rows(self._ju, count, tolerances.sparse_gram)
+                self._fundamental = FundamentalStresses(self._ju, dependent, ms.V_free)
+            except RuntimeError:  # SuperLU: the rows chosen are singular
+                self._dense()
+            else:
+                self._more()  # the first few at once: a poor choice of rows shows here, at analysis time
+
+    @property
+    def count(self) -> int:
+        """The number of independent self-stresses (exact, also when they are not listed)."""
+        return self._count
+
+    def __len__(self) -> int:
+        return 0 if self.unlisted else self._count
+
+    def __getitem__(self, i):
+        n = len(self)
+        if isinstance(i, slice):
+            return tuple(self[k] for k in range(*i.indices(n)))
+        if i < 0:
+            i += n
+        if not 0 <= i < n:
+            raise IndexError(i)
+        while len(self._done) <= i:
+            self._more()
+        return self._done[i]
+
+    def __iter__(self):
+        for k in range(len(self)):
+            yield self[k]
+
+    def __eq__(self, other) -> bool:
+        try:
+            return len(other) == len(self) and all(a == b for a, b in zip(self, other))
+        except TypeError:
+            return NotImplemented
+
+    def __hash__(self) -> int:
+        return hash(tuple(self))
+
+    def __reduce__(self):
+        return tuple, (tuple(self),)
+
+    def __repr__(self) -> str:
+        return f"SparseStresses({self._count} self-stresses, {len(self._done)} computed)"
+
+    def _more(self) -> None:
+        start = len(self._done)
+        # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
+        w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank ** 1.5)
+        residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
+        norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
+        # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
+        # above the rank tolerance of its norm (else the stresses are not independent at the threshold:
+        # the rows chosen as a basis are dependent there)
+        ok = (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
+        if not np.all(ok):  # ill-conditioned rows: the dense left null space, if it fits
+            self._dense()
+            if self.unlisted and start:  # found late, after some were read
+                raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
+            return
+        for c in range(w.shape[1]):
+            lo, hi = w.indptr[c], w.indptr[c + 1]
+            self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
+
+    def _add(self, rows: np.ndarray, coef: np.ndarray) -> None:
+        if self._copies:
+            rows, coef = _share_copies(rows, coef, self._copies)
+        labels = self._labels
+        self._done.append(Relation(tuple(zip([labels[r] for r in rows.tolist()], coef.tolist()))))
+
+    def _dense(self) -> None:
+        """All stresses from the dense left null space (when the sparse choice of rows failed)."""
+        problem = dense_size_problem(self._ju.shape[0], self._ju.shape[1], "the rows the sparse path chose "
+                                     "as a basis are not one at the rank threshold")
+        if problem is not None:
+            self.unlisted = problem.message
+            return
+        basis = left_null_space(self._ju.toarray(), self._tol.rank * self._smax)[:, : self._count]
+        self._done = []
+        for c in range(basis.shape[1]):
+            col = basis[:, c]
+            keep = np.flatnonzero(np.abs(col) > self._tol.rank * np.abs(col).max())
+            self._add(self._used[keep], col[keep] / col[keep[0]])
+        self._count = len(self._done)
+
+
+def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances) -> tuple[SparseStresses, int]:
+    """The self-stresses (:class:`SparseStresses`) of a sparse motion space ``ms`` and the artefacts' count."""
+    from symkin.analysis.statics import constraint_labels
+
+    info = ms.sparse
+    touching = ms.effective_rows
+    sizes = {name: len(ns) for name, ns in mech.links}
+    copies = _shared_simplex_pairs(info.owners, touching, sizes)
+    internal = set(info.internal.tolist()) | {r for rs in copies.values() for r in rs}
+    used = np.array([r for r in touching.tolist() if r not in internal], dtype=int)
+    artefacts = touching.size - used.size
+    count = max(used.size - ms.rank, 0)
+    return SparseStresses(mech, ms, tolerances, used, copies, constraint_labels(mech, info.owners), count), artefacts
+
+
+def _share_copies(rows: np.ndarray, coef: np.ndarray, copies: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The force on a pair's first row shared equally by all its copies (see :func:`_shared_simplex_pairs`)."""
+    out_rows, out_coef = [], []
+    for r, c in zip(rows.tolist(), coef.tolist()):
+        group = [r] + copies.get(r, [])
+        out_rows += group
+        out_coef += [c / len(group)] * len(group)
+    order = np.argsort(out_rows)
+    return np.array(out_rows)[order], np.array(out_coef)[order]

@@ -1,0 +1,334 @@
+"""Large models (issue 19): the sparse path against closed forms, the dense path and itself scaled.
+
+The frameworks come from the generators of ``benchmarks/bench_large.py`` (the benchmark's
+own); the cases here have about 300 nodes (above the size switch, fast), the 10,000-node
+case is the benchmark's only.
+"""
+from __future__ import annotations
+
+import glob
+import importlib.util
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import symkin
+from symkin.analysis import sparse
+from symkin.analysis.classification import classify
+from symkin.analysis.motion_space import model_rows
+from symkin.errors import ModelError
+from symkin.model import catalogue
+from symkin.numeric.geometric_matrix import constraint_rows
+from symkin.numeric.sparse_rows import sparse_constraint_rows
+from symkin.report import LISTED, SUMMARISED, render_text
+from symkin.tolerances import DEFAULT
+
+ROOT = Path(__file__).resolve().parents[2]
+_spec = importlib.util.spec_from_file_location("bench_large", ROOT / "benchmarks" / "bench_large.py")
+bench = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(bench)
+
+
+def _models():
+    out = [(name, catalogue.get(name)) for name in catalogue.names()]
+    out += [(Path(p).name, symkin.read_model(p)) for p in sorted(glob.glob(str(ROOT / "tests/**/models/*.toml"),
+                                                                            recursive=True))]
+    return out
+
+
+def _span_distance(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest distance of an orthonormal basis of span(a) from span(b) (inf when the dimensions differ)."""
+    if a.shape[1] != b.shape[1]:
+        return math.inf
+    if a.shape[1] == 0:
+        return 0.0
+    qa, qb = np.linalg.qr(a)[0], np.linalg.qr(b)[0]
+    return float(np.abs(qa - qb @ (qb.T @ qa)).max())
+
+
+def _stress_matrix(relations, labels) -> np.ndarray:
+    index = {label: k for k, label in enumerate(labels)}
+    out = np.zeros((len(labels), len(relations)))
+    for c, rel in enumerate(relations):
+        for label, v in rel.coefficients:
+            out[index[label], c] = v
+    return out
+
+
+def _both(mech):
+    return classify(model_rows(mech), DEFAULT), classify(sparse.sparse_rows(mech), DEFAULT)
+
+
+# ---------------------------------------------------------------------- the two paths agree
+@pytest.mark.parametrize("name,mech", _models(), ids=[n for n, _ in _models()])
+def test_sparse_path_equals_dense_path_on_every_catalogue_and_test_model(name, mech):
+    d, s = _both(mech)
+    assert (s.dof, s.motion.rank, s.redundant_constraints, s.types) == \
+        (d.dof, d.motion.rank, d.redundant_constraints, d.types)
+    assert _span_distance(d.motion.V, s.motion.V) <= 1e-10
+    labels = sorted({label for a in (d, s) for r in a.self_stresses for label, _ in r.coefficients})
+    assert _span_distance(_stress_matrix(d.self_stresses, labels), _stress_matrix(s.self_stresses, labels)) <= 1e-10
+    assert s.input_rank == d.input_rank and s.output_rank == d.output_rank
+
+
+@pytest.mark.parametrize("name", catalogue.names())
+def test_sparse_rows_are_the_dense_rows_where_no_body_takes_the_o_k_form(name):
+    mech = catalogue.get(name)
+    big = [ln for ln, ns in mech.links if len(ns) > mech.dim + 1]
+    rows = sparse_constraint_rows(mech)
+    if big:
+        pytest.skip(f"{name}: body {big[0]} takes the O(k) form")
+    dense = constraint_rows(mech)
+    assert rows.owners == dense.owners
+    assert np.array_equal(rows.matrix.toarray(), dense.matrix)
+
+
+def _body_model(dim, points, fixed, extra_links=None):
+    nodes = {f"P{k}": list(p) for k, p in enumerate(points)}
+    links = {"body": list(nodes)}
+    links.update(extra_links or {})
+    return symkin.Mechanism.from_dict({"dim": dim, "mobility": 0, "fixed": fixed, "nodes": nodes, "links": links})
+
+
+BODIES = {
+    # a planar body of 7 nodes pinned at one node and barred at another: 1 flex → 0, a stress in the bar pair
+    "planar body": _body_model(2, [(0, 0), (2, 0), (3, 1), (1, 2), (0, 3), (2.5, 2.5), (1, 1)], ["P0"],
+                               {"b1": ["P1", "P6"]}),
+    "planar body, three fixed nodes": _body_model(2, [(0, 0), (2, 0), (3, 1), (1, 2), (0, 3), (1, 1)],
+                                                  ["P0", "P1", "P4"]),
+    "collinear body": _body_model(2, [(0, 0), (1, 0), (2.5, 0), (4, 0), (5, 0)], ["P0"]),
+    "spatial body": _body_model(3, [(0, 0, 0), (2, 0, 0), (0, 2, 0), (0, 0, 2), (1, 1, 1), (2, 2, 0.5),
+                                    (0.5, 2, 2), (1, 0, 1.5)], ["P0", "P1"]),
+    "coplanar spatial body": _body_model(3, [(0, 0, 0), (2, 0, 0), (0, 2, 0), (1, 1, 0), (2, 2, 0), (3, 1, 0)],
+                                         ["P0", "P1", "P2"]),
+    "spatial rod": _body_model(3, [(0, 0, 0), (1, 1, 1), (2, 2, 2), (3, 3, 3)], ["P0"]),
+}
+
+
+@pytest.mark.parametrize("name", list(BODIES))
+def test_o_k_body_rows_give_the_pairwise_form_s_motion_space_and_stress_count(name):
+    """A body of k nodes in 2k − 3 / 3k − 6 rows: the same flexes and the same number of
+    self-stresses as the k(k − 1)/2 pair rows, whose internal stresses are artefacts."""
+    mech = BODIES[name]
+    d, s = _both(mech)
+    assert (s.dof, s.motion.rank, s.redundant_constraints, s.types) == \
+        (d.dof, d.motion.rank, d.redundant_constraints, d.types)
+    assert _span_distance(d.motion.V, s.motion.V) <= 1e-10
+    k = len(mech.nodes)
+    rows = sparse_constraint_rows(mech).matrix.shape[0]
+    hull = np.linalg.matrix_rank(np.array([c for _, c in mech.nodes]) - mech.nodes[0][1])
+    expected = {(2, 2): 2 * k - 3, (2, 1): 2 * k - 3, (3, 3): 3 * k - 6, (3, 2): 3 * k - 6, (3, 1): 3 * k - 5}
+    assert rows - (len(mech.links) - 1) == expected[(mech.dim, hull)]
+
+
+def test_body_rows_of_a_body_pinned_at_two_nodes_flex_about_their_axis():
+    """Closed form: a rigid body in space held at two nodes turns about their line (1 flex)."""
+    a = symkin.analyze(symkin.Mechanism.from_dict(bench.rigid_body(1000, dim=3)))
+    assert (a.dof, a.types, a.redundant_constraints) == (1, ("IM",), 0)
+    v = a.motion.V[:, 0].reshape(-1, 3)
+    assert np.abs(v[:, 0]).max() <= 1e-9 and np.abs(v[:, 1]).max() <= 1e-9  # z only: about the x axis Z0-Z1
+
+
+# ---------------------------------------------------------------------- closed forms
+def _strip(n_nodes, extra=0, **kw):
+    """A triangulated strip of 2 × n/2 nodes: 2n − 3 bars, statically determinate when pinned."""
+    return symkin.Mechanism.from_dict(bench.planar_truss(n_nodes // 2, 2, extra=extra, **kw))
+
+
+def test_a_statically_determinate_truss_has_no_flex_and_no_self_stress():
+    mech = _strip(300)
+    assert sparse.is_large(mech)
+    assert len(mech.links) == 2 * 300 - 3
+    a = symkin.analyze(mech)
+    assert (a.dof, a.types, a.redundant_constraints, len(a.self_stresses)) == (0, (), 0, 0)
+    assert a.motion.sparse is not None
+    assert "statically determinate" in render_text(a)
+
+
+@pytest.mark.parametrize("extra", [1, 7, 40])
+def test_each_added_bar_adds_one_self_stress_on_its_cell(extra):
+    mech = _strip(300, extra=extra)
+    a = symkin.analyze(mech)
+    assert (a.dof, a.redundant_constraints, len(a.self_stresses)) == (0, extra, extra)
+    # a braced cell (4 sides, 2 diagonals) is a K4: its one stress is on those 6 bars (elementary geometry),
+    # 5 of them for the first cell, whose bottom bar joins the two fixed nodes (it is not a constraint then)
+    sizes = sorted(r.r for r in a.self_stresses)
+    assert sizes in ([6] * extra, [5] + [6] * (extra - 1))
+
+
+def test_grid_truss_self_stress_count_and_equilibrium():
+    """A triangulated nx × ny grid pinned at one bar: (nx − 2)(ny − 2) self-stresses (a wheel round
+    every interior node); each stress balances at every free node (checked from the coordinates)."""
+    data = bench.planar_truss(15, 20)
+    mech = symkin.Mechanism.from_dict(data)
+    a = symkin.analyze(mech)
+    assert (a.dof, a.redundant_constraints) == (0, 13 * 18)
+    free = set(data["nodes"]) - set(data["fixed"])
+    for rel in a.self_stresses:
+        force = {n: np.zeros(2) for n in free}
+        for bar, w in rel.coefficients:
+            i, j = data["links"][bar]
+            u = np.subtract(data["nodes"][j], data["nodes"][i])
+            u = u / np.linalg.norm(u)
+            if i in force:
+                force[i] += w * u
+            if j in force:
+                force[j] -= w * u
+        assert max(np.abs(f).max() for f in force.values()) <= 1e-9 * max(abs(w) for _, w in rel.coefficients)
+
+
+def test_spatial_truss_counts():
+    """Freudenthal grid of 5 × 5 × 4 nodes pinned at a triangle (generic: moved by up to 10 %): rigid
+    (a shellable tetrahedral complex), so its self-stresses are the rows beyond the rank 3n − 9."""
+    data = bench.spatial_truss(5, 5, 4)
+    mech = symkin.Mechanism.from_dict(data)
+    d, s = _both(mech)
+    n, bars = len(data["nodes"]), len(data["links"])
+    assert d.dof == s.dof == 0
+    # bars between two fixed nodes touch no free coordinate; the others have rank 3n − 9 (3n − 6, 3 pinned)
+    grounded = sum(1 for a, b in data["links"].values() if {a, b} <= set(data["fixed"]))
+    assert grounded == 2
+    assert s.redundant_constraints == d.redundant_constraints == (bars - grounded) - (3 * n - 9)
+    # the same stresses (the dense canonical form rounds its entries at 1e-8 of the largest)
+    labels = sorted({label for a in (d, s) for r in a.self_stresses for label, _ in r.coefficients})
+    assert _span_distance(_stress_matrix(d.self_stresses, labels), _stress_matrix(s.self_stresses, labels)) <= 1e-8
+
+
+# ---------------------------------------------------------------------- invariance
+@pytest.mark.parametrize("spacing,angle", [(1000.0, 0.0), (1.0, 0.7), (0.001, 2.2)])
+def test_large_case_is_scale_and_rotation_invariant(spacing, angle):
+    base = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5)))
+    moved = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5, spacing=spacing,
+                                                                         angle=angle)))
+    assert (moved.dof, moved.redundant_constraints, moved.types) == (base.dof, base.redundant_constraints, base.types)
+    assert moved.singular_values[0] == pytest.approx(base.singular_values[0], rel=1e-9)
+    labels = sorted({label for a in (base, moved) for r in a.self_stresses for label, _ in r.coefficients})
+    assert _span_distance(_stress_matrix(base.self_stresses, labels),
+                          _stress_matrix(moved.self_stresses, labels)) <= 1e-9
+
+
+# ---------------------------------------------------------------------- reports
+def test_text_report_summarises_and_json_lists_every_stress():
+    a = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20)))
+    text = render_text(a)
+    assert "234 redundant constraints" in text
+    assert f"the first {SUMMARISED} are shown" in text
+    assert text.count("  self-stress ") == SUMMARISED and 234 > LISTED
+    d = json.loads(json.dumps(a.to_dict()))
+    assert d["redundant_constraints"] == len(d["self_stresses"]) == 234
+    assert all(rel for rel in d["self_stresses"])
+
+
+# ---------------------------------------------------------------------- the fuzz case and refusals
+def test_a_rigid_body_of_1000_nodes_analyses_through_the_command_line(tmp_path):
+    path = tmp_path / "body.json"
+    path.write_text(json.dumps(bench.rigid_body(1000)))
+    proc = subprocess.run([sys.executable, "-m", "symkin", "analyze", "--json", str(path)],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    out = json.loads(proc.stdout)
+    assert (out["dof"], out["redundant_constraints"], out["types"]) == (0, 0, [])
+
+
+def test_a_model_too_large_for_the_dense_path_is_refused_with_its_size(tmp_path):
+    """Two bodies of 700 nodes sharing two nodes (not taken by the sparse path): refused, exit 2."""
+    nodes = {f"A{k}": [float(k % 37), float(k // 37)] for k in range(700)}
+    nodes.update({f"B{k}": [100.0 + k % 37, float(k // 37)] for k in range(698)})
+    data = {"dim": 2, "mobility": 0, "fixed": ["A0", "A1"], "nodes": nodes,
+            "links": {"left": [f"A{k}" for k in range(700)],
+                      "right": ["A698", "A699"] + [f"B{k}" for k in range(698)]}}
+    with pytest.raises(ModelError) as err:
+        symkin.analyze(symkin.Mechanism.from_dict(data))
+    message = str(err.value)
+    assert "GiB" in message and "limit of 2 GiB" in message and "left and right share" in message
+    path = tmp_path / "two.json"
+    path.write_text(json.dumps(data))
+    proc = subprocess.run([sys.executable, "-m", "symkin", "analyze", str(path)], capture_output=True, text=True,
+                          cwd=ROOT)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr and "limit of 2 GiB" in proc.stderr
+
+
+def _frameworks():
+    from tests.analysis.test_statics import FRAMEWORKS
+
+    return FRAMEWORKS
+
+
+@pytest.mark.parametrize("name", list(_frameworks()))
+def test_sparse_stress_count_agrees_with_pyrigi(name):
+    """The frameworks of ``test_statics`` (PyRigi's stress count there): the sparse path counts the same."""
+    pyrigi = pytest.importorskip("pyrigi")
+    nodes, bars = _frameworks()[name]
+    expected = len(pyrigi.Framework(pyrigi.Graph([(b[0], b[1]) for b in bars]),
+                                    {n: list(x) for n, x in nodes.items()}).stresses(numerical=True))
+    mech = symkin.Mechanism.from_dict({"dim": 2, "mobility": 0,
+                                       "nodes": {n: list(map(float, x)) for n, x in nodes.items()},
+                                       "links": {b: [b[0], b[1]] for b in bars}})
+    s = classify(sparse.sparse_rows(mech), DEFAULT)
+    assert s.redundant_constraints == len(tuple(s.self_stresses)) == expected
+
+
+def _pyrigi_db():
+    """Frameworks of PyRigi's ``frameworkDB`` (name, constructor, arguments), planar and spatial."""
+    # (PyRigi realises K_n and C_n in space only for n <= dim + 1)
+    cases = [("Complete", (n,), {"dim": d}) for n in range(3, 8) for d in (2, 3) if d == 2 or n <= 4]
+    cases += [("Cycle", (n,), {"dim": d}) for n in (4, 5, 6) for d in (2, 3) if d == 2 or n <= 4]
+    cases += [("Wheel", (n,), {}) for n in (4, 5, 6, 7)] + [("Frustum", (n,), {}) for n in (3, 4, 5)]
+    cases += [("CompleteBipartite", (a, b), {}) for a, b in ((3, 3), (3, 4), (4, 4))]
+    cases += [(name, (), {}) for name in ("Square", "Diamond", "K33plusEdge", "ThreePrism", "ThreePrismPlusEdge",
+                                          "Cube", "Octahedron", "Icosahedron", "Dodecahedron", "SecondOrderRigid",
+                                          "CnSymmetricFourRegular", "CnSymmetricWithFixedVertex")]
+    return cases
+
+
+@pytest.mark.parametrize("name,args,kwargs", _pyrigi_db(),
+                         ids=[f"{n}{a}{k.get('dim', '')}" for n, a, k in _pyrigi_db()])
+def test_both_paths_count_pyrigi_s_stresses_on_its_framework_database(name, args, kwargs):
+    """PyRigi 1.3's own frameworks: its numerical stress count = the dense = the sparse path's."""
+    db = pytest.importorskip("pyrigi.frameworkDB")
+    fw = getattr(db, name)(*args, **kwargs)
+    expected = len(fw.stresses(numerical=True))
+    points = fw.realization(as_points=True, numerical=True)
+    dim = len(next(iter(points.values())))
+    mech = symkin.Mechanism.from_dict({"dim": dim, "mobility": 0,
+                                       "nodes": {f"V{v}": [float(c) for c in p] for v, p in points.items()},
+                                       "links": {f"e{k}": [f"V{a}", f"V{b}"] for k, (a, b) in
+                                                 enumerate(fw.graph.edges)}})
+    d, s = _both(mech)
+    assert d.redundant_constraints == s.redundant_constraints == expected
+    assert d.dof == s.dof
+
+
+def _bad_choice(a, count, regularisation):
+    """A wrong choice of dependent rows: the first ``count`` (the grid's lower part); the rows left are
+    not a basis, so SuperLU or the checks of the stresses reject the choice."""
+    return np.arange(count)
+
+
+def test_a_poor_choice_of_rows_falls_back_to_the_dense_stresses(monkeypatch):
+    data = bench.planar_truss(15, 20)
+    mech = symkin.Mechanism.from_dict(data)
+    d = classify(model_rows(mech), DEFAULT)
+    monkeypatch.setattr(sparse, "sparse_dependent_rows", _bad_choice)
+    a = symkin.analyze(mech)
+    assert a.redundant_constraints == len(a.self_stresses) == 234 and not a.warnings
+    labels = sorted({label for x in (a, d) for r in x.self_stresses for label, _ in r.coefficients})
+    assert _span_distance(_stress_matrix(d.self_stresses, labels), _stress_matrix(a.self_stresses, labels)) <= 1e-8
+
+
+def test_stresses_are_counted_not_listed_when_the_dense_fallback_does_not_fit(monkeypatch):
+    import symkin.model.validation as validation
+
+    mech = symkin.Mechanism.from_dict(bench.planar_truss(15, 20))
+    monkeypatch.setattr(sparse, "sparse_dependent_rows", _bad_choice)
+    monkeypatch.setattr(validation, "DENSE_ANALYSIS_BYTES", 1000)
+    a = symkin.analyze(mech)
+    assert (a.dof, a.redundant_constraints, len(a.self_stresses)) == (0, 234, 0)
+    assert any("234 self-stresses are counted but not listed" in w for w in a.warnings)
+    assert "234 redundant constraints (self-stresses counted, not listed: see the warning)." in render_text(a)
+    assert json.loads(json.dumps(a.to_dict()))["redundant_constraints"] == 234
