@@ -201,10 +201,10 @@ def sparse_constraint_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) ->
 
     matrix = sps.csr_matrix((np.concatenate(v_list), (np.concatenate(r_list), np.concatenate(c_list))),
                             shape=(nrow, ncoord))
-    if mech.sliders:
-        sl = np.array(_slider_rows(mech, _SliderPlan(dim, ncoord, index), xyz))
-        matrix = sps.vstack([matrix, sps.csr_matrix(sl)], format="csr")
-        owners += [f"slider {s.id}" for s in mech.sliders for _ in range(1 if s.kind == "plane" else dim - 1)]
+    if mech.sliders or mech.helicals:  # the constraints after the links, as the dense rows give them
+        sl, sl_owners = _slider_rows(mech, _SliderPlan(dim, ncoord, index), pts)
+        matrix = sps.vstack([matrix, sps.csr_matrix(np.array(sl))], format="csr")
+        owners += sl_owners
     free_index = np.flatnonzero(free)
     for rows, frame_nodes in internal_groups:
         internal += _dependent_in_body(matrix, rows, frame_nodes, free, dim, tolerances)
