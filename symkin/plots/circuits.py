@@ -6,7 +6,8 @@ marked by type (IM, DKP-input, DKP-output, LIM — a link locked — as in :mod:
 and numbered as in the text report and the JSON ``singularities``.  Angles are absolute (the
 ``input_absolute`` / ``output_absolute`` of the JSON, ticks in [0°, 360°)) and a circuit is drawn
 continuous: it is cut only where it turns fully.  The figure is drawn at one-column size
-(:data:`COLUMN_WIDTH` inches) with no text under :data:`FONT` points.  A model without an output
+(:data:`~symkin.plots.paths.COLUMN_WIDTH` inches) with no text under
+:data:`~symkin.plots.paths.FONT` points.  A model without an output
 is drawn against the arclength along each branch instead.
 """
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
-from symkin.plots.paths import STYLE
+from symkin.plots.paths import COLUMN_WIDTH, DPI, FONT, STYLE
 from symkin.solutions.circuits import Singularities
 
 __all__ = ["LIM_STYLE", "plot_circuits", "circuits_figure", "save_circuits_figure"]
@@ -29,9 +30,6 @@ LIM_STYLE = STYLE[Kind.LIM]
 _MARKER_ORDER = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
 
 _COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
-#: one-column print size (inches) and the smallest text at that size (points): the figure is drawn at it
-COLUMN_WIDTH = 3.5
-FONT = 9
 
 
 def _offsets(result: Singularities, labels: list[str]) -> dict:
@@ -209,7 +207,7 @@ def save_circuits_figure(result: Singularities, filename) -> FilePath:
     target = FilePath(filename)
     fig = circuits_figure(result)
     try:
-        fig.savefig(target, dpi=300, format=None if target.suffix else "png")
+        fig.savefig(target, dpi=DPI, format=None if target.suffix else "png")
     except OSError as exc:
         raise SymkinError(f"{target}: cannot write the figure ({exc.strerror or exc})") from exc
     return target

@@ -21,7 +21,16 @@ from symkin.paths.trace import Path
 from symkin.plots.mechanism import coordinates, draw_leg_lines, draw_mechanism, is_3d, new_axes, set_equal_3d
 
 __all__ = ["plot_indicators", "plot_traces", "plot_input_output", "plot_event_configurations", "path_figure",
-           "save_path_figures", "abscissa", "event_label", "place_labels"]
+           "save_path_figures", "abscissa", "event_label", "place_labels", "COLUMN_WIDTH", "FONT", "DPI",
+           "floor_fonts"]
+
+#: one-column print width (inches) and the smallest text at that width (points): the figures of
+#: :mod:`symkin.plots` are drawn at ``COLUMN_WIDTH`` wide (or wider with text scaled by the same
+#: ratio), so none of their text prints under ``FONT`` points in one column of a paper
+COLUMN_WIDTH = 3.5
+FONT = 9
+#: resolution of the PNGs the commands write (a one-column figure is then ~1050 pixels wide)
+DPI = 300
 
 #: colour and marker of each test function and of its located events
 STYLE = {
@@ -185,6 +194,24 @@ def _renderer(ax):
 
         FigureCanvasAgg(fig)
     return fig.canvas.get_renderer()
+
+
+def floor_fonts(fig, size: float = FONT) -> None:
+    """Raise every text of ``fig`` under ``size`` points to ``size`` (tick labels included, also
+    those drawn later): the last step of a figure meant for print, for the texts that helpers
+    such as :func:`~symkin.plots.mechanism.draw_mechanism` write at their own sizes."""
+    from matplotlib.text import Text
+
+    for ax in fig.get_axes():
+        for axis in (ax.xaxis, ax.yaxis, getattr(ax, "zaxis", None)):
+            if axis is None:
+                continue
+            for which, ticks in (("major", axis.get_major_ticks()), ("minor", axis.get_minor_ticks())):
+                if any(t.label1.get_fontsize() < size or t.label2.get_fontsize() < size for t in ticks):
+                    axis.set_tick_params(which=which, labelsize=size)
+    for t in fig.findobj(Text):
+        if t.get_fontsize() < size:
+            t.set_fontsize(size)
 
 
 def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
