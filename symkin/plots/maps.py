@@ -483,15 +483,21 @@ def legend_handles(axes) -> list:
 
 
 def _suptitle(wmap: WorkspaceMap, font: float, width: float, extra: str = "") -> str:
+    """The figure's title: model and axes, held values, counts (and ``extra``), in lines that fit ``width``."""
     import textwrap
 
     hold = ", ".join(f"{lab} = {v:.4g}" for lab, v in wmap.hold)
     (a, b) = (axis_label(ax.label, wmap.unit).split(" [")[0] for ax in wmap.axes)
-    text = (f"{wmap.model}: singularity map over {a} × {b}" + (f", holding {hold}" if hold else "")
-            + f"; {len(wmap.modes)} mode(s), {len(wmap.curves)} curve(s), {len(wmap.points)} point(s)"
-            + (f"; {extra}" if extra else ""))
+    parts = [f"{wmap.model}: singularity map over {a} × {b}", f"holding {hold}" if hold else "",
+             f"{len(wmap.modes)} mode(s), {len(wmap.curves)} curve(s), {len(wmap.points)} point(s)", extra]
     chars = int(width * 72 / (0.52 * font))  # characters per line at this size
-    return "\n".join(textwrap.wrap(text, chars))
+    lines: list[str] = []
+    for part in filter(None, parts):  # a part stays whole on its line when it fits one
+        if lines and len(lines[-1]) + 2 + len(part) <= chars:
+            lines[-1] += f"; {part}"
+        else:
+            lines += textwrap.wrap(part, chars)
+    return "\n".join(lines)
 
 
 def _geometry(wmap: WorkspaceMap) -> float:
