@@ -253,29 +253,7 @@ def test_a_cusp_point_has_its_own_marker_and_legend_entry(wmap):
 
 
 # ---------------------------------------------------------------------- figures for print
-#: one column of a paper (inches) and the smallest text it may print (points)
-COLUMN, SMALLEST = 3.5, 9.0
-
-
-def printed_points(fig) -> list[tuple[float, str]]:
-    """Every visible, non-empty text of the rendered ``fig`` with its size (points) when the figure
-    is printed one column wide: ``size × COLUMN / width``."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.text import Text
-
-    if not isinstance(fig.canvas, FigureCanvasAgg):
-        FigureCanvasAgg(fig)
-    fig.canvas.draw()
-    width = fig.get_size_inches()[0]
-    return [(t.get_fontsize() * COLUMN / width, t.get_text()) for t in fig.findobj(Text)
-            if t.get_visible() and t.get_text().strip()]
-
-
-def assert_printable(fig):
-    sizes = printed_points(fig)
-    assert sizes, "no text found"
-    small = [(round(p, 2), text) for p, text in sizes if p < SMALLEST - 1e-9]
-    assert not small, f"texts under {SMALLEST} pt at one column: {small[:5]}"
+from tests.plots.print_size import COLUMN, assert_printable  # noqa: E402
 
 
 def test_printed_points_sees_a_small_text():

@@ -452,3 +452,57 @@ def test_type_2_panels_draw_the_legs_lines_meeting_in_one_point(rrr_path):
             d = (c - b) / np.linalg.norm(c - b)
             w = point - b
             assert abs(w[0] * d[1] - w[1] * d[0]) < 1e-3 * rrr_path.mechanism.length_scale
+
+
+# ---------------------------------------------------------------------- print size, trace labels
+def test_path_figures_print_at_9_points_or_more_in_one_column(fourbar_path, rrr_path, peaucellier_path, rssr_path):
+    from symkin.plots.paths import path_figure
+    from tests.plots.print_size import COLUMN, assert_printable
+
+    for path in (fourbar_path, rrr_path, peaucellier_path, rssr_path):
+        fig = path_figure(path)
+        assert fig.get_size_inches()[0] == pytest.approx(COLUMN)
+        assert_printable(fig)
+
+
+@pytest.mark.parametrize("name", ["rrr_3", "peaucellier"])
+def test_trace_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path):
+    """The node-traces panel numbers every event at its dot; close events (peaucellier: 1 and 3 at
+    one configuration, the 3-RRR's 2 and 4 side by side) still give labels that do not overlap."""
+    from symkin.plots.paths import path_figure
+
+    path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path}[name]
+    fig = path_figure(path)
+    traces = fig.subfigs[0].axes[-1]
+    assert traces.get_title() == "Node traces"
+    boxes = _label_boxes(fig, traces)
+    assert sorted(g for g, _ in boxes) == sorted(f"event-label:{k}" for k in range(1, len(path.singular_events()) + 1))
+    _assert_no_two_intersect(boxes)
+    frame = traces.get_window_extent()
+    assert all(frame.x0 <= b.x0 and b.x1 <= frame.x1 and frame.y0 <= b.y0 and b.y1 <= frame.y1 for _, b in boxes)
+    # each label is next to its dot: within a few label heights of the node it numbers
+    renderer = fig.canvas.get_renderer()
+    for t in traces.texts:
+        box = t.get_window_extent(renderer)
+        dot = traces.transData.transform(t.xy)
+        gap = max(box.x0 - dot[0], dot[0] - box.x1, box.y0 - dot[1], dot[1] - box.y1, 0.0)
+        assert gap < 6 * box.height
+    # standalone, full labels on a small axes
+    fig, ax = plt.subplots(figsize=(3.5, 3.0))
+    plot_traces(path, ax=ax)
+    _assert_no_two_intersect(_label_boxes(fig, ax))
+
+
+def test_place_point_labels_separates_labels_of_one_point():
+    """Five labels at one point: five places, no two boxes meeting."""
+    from symkin.plots.paths import place_point_labels
+
+    fig, ax = plt.subplots(figsize=(3.5, 3.0))
+    ax.plot([0, 1], [0, 1])
+    for k in range(1, 6):
+        ax.annotate(f"{k}. DKP-output", (0.5, 0.5), xytext=(4, 4), textcoords="offset points", fontsize=9,
+                    gid=f"event-label:{k}")
+    before = _label_boxes(fig, ax)
+    assert before[0][1].overlaps(before[1][1])  # drawn where they were asked: on one another
+    place_point_labels(ax)
+    _assert_no_two_intersect(_label_boxes(fig, ax))
