@@ -59,7 +59,7 @@ POINT_STYLES = {**STYLE, Kind.CUSP: dict(colour="#ff7f0e", marker="^"),
                 Kind.MEETING: dict(colour="#8c564b", marker="X"), Kind.END: dict(colour="#7f7f7f", marker="o")}
 #: legend text of each curve kind and point kind (a point of another kind: ``"KIND point"``)
 CURVE_LABELS = {Kind.DKP_INPUT: "DKP-input curve", Kind.DKP_OUTPUT: "DKP-output curve", Kind.IM: "IM curve"}
-POINT_LABELS = {Kind.IM: "IM point", Kind.LIM: "LIM point", Kind.CUSP: "cusp", Kind.MEETING: "meeting point",
+POINT_LABELS = {Kind.IM: "IM point", Kind.LIM: "LIM point", Kind.CUSP: str(Kind.CUSP), Kind.MEETING: "meeting point",
                 Kind.END: "end of a curve"}
 BOUNDARY_COLOUR = "black"
 
