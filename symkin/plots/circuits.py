@@ -78,7 +78,11 @@ def _nearest_turn(value: float, period: float | None, drawn: np.ndarray) -> floa
 def _angle_formatter(period: float):
     from matplotlib.ticker import FuncFormatter
 
-    return FuncFormatter(lambda v, _: f"{np.remainder(v, period) + 0.0:g}")
+    def text(v, _):
+        r = np.remainder(v, period) + 0.0
+        return f"{period if (r == 0.0 and v > 0) else r:g}"  # a full turn at the right end reads 360, not 0 again
+
+    return FuncFormatter(text)
 
 
 def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
@@ -168,10 +172,12 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
     ax.set_xlabel("input " + axis_label(result.input, angle_in, off_in), fontsize=FONT)
     if angle_in and off_in is not None:
         ax.xaxis.set_major_formatter(_angle_formatter(period_in))
+        _quarter_turns(ax.xaxis, deg, ax.get_xlim())
     if has_output:
         ax.set_ylabel("output " + axis_label(result.output, angle_out, off_out), fontsize=FONT)
         if angle_out and off_out is not None:
             ax.yaxis.set_major_formatter(_angle_formatter(period_out))
+            _quarter_turns(ax.yaxis, deg, ax.get_ylim())
     else:
         ax.set_ylabel("arclength along the branch", fontsize=FONT)
     ax.tick_params(labelsize=FONT)
@@ -182,6 +188,16 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
     ax.legend(fontsize=FONT, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False,
               handlelength=1.5, columnspacing=1.0)
     return ax
+
+
+def _quarter_turns(axis, deg: bool, limits) -> None:
+    """Ticks of an angle axis in degrees at multiples of 90° (45° on a span of 90° to 180°; else
+    matplotlib's), as a kinematician reads them."""
+    span = abs(limits[1] - limits[0])
+    if deg and span >= 90.0:
+        from matplotlib.ticker import MultipleLocator
+
+        axis.set_major_locator(MultipleLocator(90.0 if span >= 180.0 else 45.0))
 
 
 def _output_kind(result: Singularities) -> str | None:

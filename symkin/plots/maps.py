@@ -490,7 +490,7 @@ def _suptitle(wmap: WorkspaceMap, font: float, width: float, extra: str = "") ->
     (a, b) = (axis_label(ax.label, wmap.unit).split(" [")[0] for ax in wmap.axes)
     parts = [f"{wmap.model}: singularity map over {a} × {b}", f"holding {hold}" if hold else "",
              f"{len(wmap.modes)} mode(s), {len(wmap.curves)} curve(s), {len(wmap.points)} point(s)", extra]
-    chars = int(width * 72 / (0.52 * font))  # characters per line at this size
+    chars = int(width * 72 / (0.6 * font))  # characters per line at this size (with a margin)
     lines: list[str] = []
     for part in filter(None, parts):  # a part stays whole on its line when it fits one
         if lines and len(lines[-1]) + 2 + len(part) <= chars:
@@ -641,7 +641,7 @@ def map_panel_figures(wmap: WorkspaceMap, mechanism: Mechanism | None = None,
             fig.suptitle(_suptitle(wmap, font, width, f"{mode_title(m)}: {what}"), fontsize=font)
             ax = fig.add_subplot(1, 1, 1, gid=f"panel:{m.id}:{name}")
             if name == "mechanism":
-                plot_seed(wmap, m, mechanism, ax=ax, title="", labels=False)
+                plot_seed(wmap, m, mechanism, ax=ax, title="")
                 ax.xaxis.set_major_locator(_locator())
                 ax.yaxis.set_major_locator(_locator())
             elif m.assembled.any():
