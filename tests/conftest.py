@@ -6,10 +6,35 @@ from pathlib import Path
 import pytest
 
 import symkin
+import symkin.reproduce as _reproduce
 from symkin.model import catalogue
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "papers_examples"
+
+_RUN_CHECK = _reproduce.run_check
+_CHECKS: dict = {}
+
+
+def shared_run_check(script):
+    """:func:`symkin.reproduce.run_check`, run once per test session for each script of ``papers_examples/``.
+
+    ``test_papers_examples`` and the tests of ``symkin reproduce`` (in process) read the same
+    check results instead of running every example of the paper three times; a script of any
+    other folder runs each time, and a script that raises is not remembered (it raises again).
+    """
+    path = Path(script).resolve()
+    if path.parent != EXAMPLES.resolve():
+        return _RUN_CHECK(script)
+    if path not in _CHECKS:
+        _CHECKS[path] = _RUN_CHECK(script)
+    return _CHECKS[path]
+
+
+@pytest.fixture
+def paper_checks_once(monkeypatch):
+    """``symkin reproduce`` in this test uses :func:`shared_run_check` (the report is written as always)."""
+    monkeypatch.setattr(_reproduce, "run_check", shared_run_check)
 
 
 @pytest.fixture(params=catalogue.names())

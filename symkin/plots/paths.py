@@ -83,7 +83,7 @@ def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray
         return inputs, "input", f"input {path.drive} [{name}]{along}"
     s = np.array([p.s for p in path.points], float)
     why = "\n(the input turns back)" if x == "auto" else ""
-    return s, "arclength", f"arclength s along the path [model lengths]{why}"
+    return s, "arclength", (f"arclength s [model lengths]{why}" if why else "arclength s along the path [model lengths]")
 
 
 def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", bifurcation: bool = False,
