@@ -79,7 +79,7 @@ def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray
     steps = np.diff(inputs)
     monotone = bool(np.all(steps > 0) or np.all(steps < 0)) if steps.size else True
     if x == "input" or (x == "auto" and monotone):
-        along = ",\nalong the path from the model's configuration" if path.kind == "angle" else ""
+        along = ",\nfrom the model's configuration" if path.kind == "angle" else ""
         return inputs, "input", f"input {path.drive} [{name}]{along}"
     s = np.array([p.s for p in path.points], float)
     why = "\n(the input turns back)" if x == "auto" else ""
@@ -673,7 +673,7 @@ def path_figure(path: Path, unit: str = "deg"):
     rows = -(-n_ev // _PANELS_PER_ROW) if n_ev else 0
     three_d = path.mechanism.dim == 3
     io = _output(path) is not None
-    heights = [3.3] + ([2.5] if io else []) + [3.6]  # inches: each top panel with its labels and legend
+    heights = [3.3] + ([2.9] if io else []) + [3.6]  # inches: each top panel with its labels and legend
     events_h = (1.8 * rows + 0.35) if rows else 0.0
     fig = Figure(figsize=(COLUMN_WIDTH, sum(heights) + events_h + 0.55), layout="constrained")
     FigureCanvasAgg(fig)
@@ -681,7 +681,9 @@ def path_figure(path: Path, unit: str = "deg"):
     grid = top.add_gridspec(len(heights), 1, height_ratios=heights)
     left = top.add_subplot(grid[0])
     if io:
-        plot_input_output(path, ax=top.add_subplot(grid[1]), unit=unit)
+        middle = plot_input_output(path, ax=top.add_subplot(grid[1]), unit=unit)
+        middle.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=3.4, ncol=2, fontsize=FONT,
+                      frameon=False, handlelength=1.5, columnspacing=1.0)  # under the axes: it covers no data
     right = top.add_subplot(grid[-1], projection="3d" if three_d else None)
     left.set_title("Indicators along the path", fontsize=FONT)
     right.set_title("Node traces", fontsize=FONT)
@@ -696,6 +698,8 @@ def path_figure(path: Path, unit: str = "deg"):
         for ax in panels:  # small multiples at one scale, the traces' axes give it: no ticks
             ax.set_xlabel("")
             ax.set_ylabel("")
+            if three_d:
+                ax.set_zlabel("")
             ax.tick_params(labelbottom=False, labelleft=False)
         bottom.suptitle("The mechanism at each singular event (same scale)", fontsize=FONT)
     title = (f"{path.mechanism.name}, driven by {path.drive}: {n_ev} singular event(s); "
