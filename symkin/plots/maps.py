@@ -33,7 +33,7 @@ from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.plots.mechanism import draw_mechanism
 from symkin.plots.paths import COLUMN_WIDTH, DPI, FONT, STYLE, floor_fonts
-from symkin.workspace.maps import KINDS, ModeMap, WorkspaceMap
+from symkin.workspace.maps import ModeMap, WorkspaceMap
 
 __all__ = ["INDICATORS", "plot_map", "plot_curves", "plot_boundary", "plot_seed", "plot_im_surface",
            "map_figure", "map_panel_figures", "save_map_figure", "save_map_panels", "panel_path", "axis_label",
@@ -597,7 +597,7 @@ def map_figure(wmap: WorkspaceMap, mechanism: Mechanism | None = None, indicator
         if r == nrows - 1 or (not wide and r == nrows - 2 and (r + 1) * ncols + c >= len(names)):
             ax.set_xlabel(axis_label(wmap.axes[0].label, wmap.unit) if name != "mechanism" or _node_axes(wmap)
                           else "x [model length]", fontsize=font)
-    for key, axes in rows.items():
+    for axes in rows.values():
         name = axes[0].get_gid().split(":")[2]
         mesh = next(a for a in axes[0].collections if (a.get_gid() or "").startswith("indicator:"))
         _colourbar(fig, mesh, axes, colour_scale(wmap, name), font, location="bottom", one_line=wide)

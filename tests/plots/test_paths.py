@@ -387,8 +387,6 @@ def _assert_no_two_intersect(boxes):
 
 @pytest.mark.parametrize("name", ["rrr_3", "peaucellier"])
 def test_event_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path, figure_of):
-    from symkin.plots.paths import path_figure
-
     path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path}[name]
     fig = figure_of(path)
     indicators = fig.subfigs[0].axes[0]
