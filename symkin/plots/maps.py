@@ -14,12 +14,14 @@ nothing is computed here but ``|values|``, colour limits and the seed's nodal co
 * :func:`plot_seed` — the mechanism at a mode's seed configuration, over that mode's
   boundary and curves when the map's axes are the x and y of one node (a workspace map);
 * :func:`plot_im_surface` — the IM indicator as a 3-D surface (Fig. 15);
-* :func:`map_figure` / :func:`save_map_figure` — rows = modes, columns = indicators (+ the
-  mechanism): what ``symkin map ... --plot FILE.png`` writes.
+* :func:`map_figure` / :func:`save_map_figure` — columns = modes, rows = indicators (+ the
+  mechanism), one column of a paper wide: what ``symkin map ... --plot FILE.png`` writes;
+  :func:`map_panel_figures` / :func:`save_map_panels` — one figure per panel (``--panels``).
 
 Artists carry a ``gid``: ``indicator:NAME:MODE`` (the colour mesh), ``curve:KIND:MODE``,
 ``point:KIND:MODE``, ``boundary:MODE``, ``seed:MODE``, ``im_surface:MODE``; the panels of
-:func:`map_figure` carry ``panel:MODE:NAME`` (``NAME`` an indicator or ``mechanism``).
+:func:`map_figure` carry ``panel:MODE:NAME`` (``NAME`` an indicator or ``mechanism``), its colour
+bars ``colourbar:NAME``.
 """
 from __future__ import annotations
 
