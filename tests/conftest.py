@@ -52,6 +52,32 @@ def fourbar_data() -> dict:
     return catalogue.data("fourbar_appendix")
 
 
+#: the planar Gough–Stewart of tests/workspace/models at s1 = 0.05: 4 real and 24 complex assembly modes
+GOUGH_STEWART = ROOT / "tests" / "workspace" / "models" / "gough_stewart.toml"
+GOUGH_STEWART_VALUES = {**{f"slide:s{i}": 0.0 for i in range(1, 7)}, "slide:s1": 0.05}
+
+
+@pytest.fixture(scope="session")
+def gough_stewart_total_degree():
+    """``(mechanism, values, results)``: the planar Gough–Stewart solved by total degree, once per session.
+
+    Bertini's total-degree paths start from a random γ and now and then one fails, so up to three
+    solves are made, stopping at the first that counts all 24 complex solutions; ``results`` holds
+    them in order.  ``test_solve_all`` checks every one of them, ``test_parameter_homotopy``
+    compares the last with PHCpack (the solve, 40 s, was made once in each).
+    """
+    from symkin.model.model_file import read_model
+    from symkin.solutions import solve_all
+
+    m = read_model(GOUGH_STEWART)
+    results = []
+    for _ in range(3):
+        results.append(solve_all(m, dict(GOUGH_STEWART_VALUES), method="total-degree"))
+        if results[-1].complex == 24:
+            break
+    return m, dict(GOUGH_STEWART_VALUES), results
+
+
 @pytest.fixture(autouse=True, scope="session")
 def _private_cache(tmp_path_factory):
     """Compiled artefacts of the test session go to a temporary cache, not the user's."""
