@@ -407,20 +407,15 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
             markeredgecolor="black", zorder=4, gid="start", label="start")
 
     events = path.singular_events()
+    pending = []  # (number, text, point): labelled once the limits are set (3-D: at the projected point)
     if events:
         dots = np.vstack([np.asarray(e.coordinates, float)[cols, :ncoord] for e in events])
         ax.plot(*dots.T, linestyle="none", marker="o", markersize=5, color="black", zorder=5, gid="events",
                 label="nodes at the events")
         if annotate:
             for k, e in enumerate(events, 1):
-                p = np.asarray(e.coordinates, float)[cols[0], :ncoord]
-                text = str(k) if numbers_only else f"{k}. {e.kind}"
-                if three_d:
-                    ax.text(*p, f"  {text}", fontsize=FONT, gid=f"event-label:{k}")
-                else:
-                    ax.annotate(text, p, xytext=(4, 4), textcoords="offset points", fontsize=FONT, zorder=6,
-                                gid=f"event-label:{k}",
-                                bbox=dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
+                pending.append((k, str(k) if numbers_only else f"{k}. {e.kind}",
+                                np.asarray(e.coordinates, float)[cols[0], :ncoord]))
 
     allp = np.vstack(everything)
     if three_d:
@@ -428,12 +423,20 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
         ax.set_zlabel("z")
     else:
         ax.set_aspect("equal", adjustable="datalim")
+    for k, text, p in pending:
+        if three_d:  # a 2-D annotation at the point's projection in this view (as matplotlib's 3-D examples do)
+            from mpl_toolkits.mplot3d import proj3d
+
+            p = proj3d.proj_transform(*p, ax.get_proj())[:2]
+        ax.annotate(text, p, xytext=(4, 4), textcoords="offset points", fontsize=FONT, zorder=6,
+                    gid=f"event-label:{k}",
+                    bbox=dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
     ax.set_xlabel("x")
     ax.set_ylabel("y" if (three_d or mech.dim == 2) else "y (x-y projection)")
     if not ax.get_title():
         ax.set_title(f"Node traces: {mech.name}", fontsize=FONT)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=FONT, borderaxespad=0.0)
-    if annotate and not three_d:
+    if annotate:
         place_point_labels(ax)
     return ax
 
@@ -710,8 +713,7 @@ def path_figure(path: Path, unit: str = "deg"):
     for _ in range(2):
         fig.canvas.draw()
         place_labels(left)
-        if not three_d:
-            place_point_labels(right)
+        place_point_labels(right)
     fig.canvas.draw()
     fig.set_layout_engine("none")
     return fig

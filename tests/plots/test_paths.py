@@ -478,11 +478,12 @@ def test_path_figures_print_at_9_points_or_more_in_one_column(fourbar_path, rrr_
         assert_printable(fig)
 
 
-@pytest.mark.parametrize("name", ["rrr_3", "peaucellier"])
-def test_trace_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path, figure_of):
+@pytest.mark.parametrize("name", ["rrr_3", "peaucellier", "rssr"])
+def test_trace_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path, rssr_path, figure_of):
     """The node-traces panel numbers every event at its dot; close events (peaucellier: 1 and 3 at
-    one configuration, the 3-RRR's 2 and 4 side by side) still give labels that do not overlap."""
-    path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path}[name]
+    one configuration, the 3-RRR's 2 and 4 side by side) still give labels that do not overlap; on a
+    spatial mechanism's 3-D traces (the RSSR) the labels sit at the dots' projections."""
+    path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path, "rssr": rssr_path}[name]
     fig = figure_of(path)
     traces = fig.subfigs[0].axes[-1]
     assert traces.get_title() == "Node traces"
@@ -498,10 +499,14 @@ def test_trace_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peau
         dot = traces.transData.transform(t.xy)
         gap = max(box.x0 - dot[0], dot[0] - box.x1, box.y0 - dot[1], dot[1] - box.y1, 0.0)
         assert gap < 6 * box.height
-    # standalone, full labels on a small axes
+    # standalone, full labels on a small axes (a spatial path: projected on x-y, and in 3-D)
     fig, ax = plt.subplots(figsize=(3.5, 3.0))
     plot_traces(path, ax=ax)
     _assert_no_two_intersect(_label_boxes(fig, ax))
+    if path.mechanism.dim == 3:
+        ax = plot_traces(path)
+        assert ax.name == "3d" and len(ax.texts) == len(path.singular_events())
+        _assert_no_two_intersect(_label_boxes(ax.figure, ax))
 
 
 def test_place_point_labels_separates_labels_of_one_point():
