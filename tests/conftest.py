@@ -6,10 +6,35 @@ from pathlib import Path
 import pytest
 
 import symkin
+import symkin.reproduce as _reproduce
 from symkin.model import catalogue
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "papers_examples"
+
+_RUN_CHECK = _reproduce.run_check
+_CHECKS: dict = {}
+
+
+def shared_run_check(script):
+    """:func:`symkin.reproduce.run_check`, run once per test session for each script of ``papers_examples/``.
+
+    ``test_papers_examples`` and the tests of ``symkin reproduce`` (in process) read the same
+    check results instead of running every example of the paper three times; a script of any
+    other folder runs each time, and a script that raises is not remembered (it raises again).
+    """
+    path = Path(script).resolve()
+    if path.parent != EXAMPLES.resolve():
+        return _RUN_CHECK(script)
+    if path not in _CHECKS:
+        _CHECKS[path] = _RUN_CHECK(script)
+    return _CHECKS[path]
+
+
+@pytest.fixture
+def paper_checks_once(monkeypatch):
+    """``symkin reproduce`` in this test uses :func:`shared_run_check` (the report is written as always)."""
+    monkeypatch.setattr(_reproduce, "run_check", shared_run_check)
 
 
 @pytest.fixture(params=catalogue.names())
@@ -25,6 +50,32 @@ def fourbar() -> symkin.Mechanism:
 @pytest.fixture
 def fourbar_data() -> dict:
     return catalogue.data("fourbar_appendix")
+
+
+#: the planar Gough–Stewart of tests/workspace/models at s1 = 0.05: 4 real and 24 complex assembly modes
+GOUGH_STEWART = ROOT / "tests" / "workspace" / "models" / "gough_stewart.toml"
+GOUGH_STEWART_VALUES = {**{f"slide:s{i}": 0.0 for i in range(1, 7)}, "slide:s1": 0.05}
+
+
+@pytest.fixture(scope="session")
+def gough_stewart_total_degree():
+    """``(mechanism, values, results)``: the planar Gough–Stewart solved by total degree, once per session.
+
+    Bertini's total-degree paths start from a random γ and now and then one fails, so up to three
+    solves are made, stopping at the first that counts all 24 complex solutions; ``results`` holds
+    them in order.  ``test_solve_all`` checks every one of them, ``test_parameter_homotopy``
+    compares the last with PHCpack (the solve, 40 s, was made once in each).
+    """
+    from symkin.model.model_file import read_model
+    from symkin.solutions import solve_all
+
+    m = read_model(GOUGH_STEWART)
+    results = []
+    for _ in range(3):
+        results.append(solve_all(m, dict(GOUGH_STEWART_VALUES), method="total-degree"))
+        if results[-1].complex == 24:
+            break
+    return m, dict(GOUGH_STEWART_VALUES), results
 
 
 @pytest.fixture(autouse=True, scope="session")

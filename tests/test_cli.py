@@ -72,7 +72,7 @@ def test_console_script_runs_as_module():
 
 
 @pytest.mark.slow
-def test_reproduce_writes_a_report_folder(capsys, tmp_path):
+def test_reproduce_writes_a_report_folder(capsys, tmp_path, paper_checks_once):
     code, out, err = run(capsys, "reproduce", "--out", str(tmp_path / "rep"))
     assert code == 0, out + err
     assert "examples reproduced" in out and (tmp_path / "rep" / "summary.md").exists()

@@ -146,7 +146,6 @@ ALLOWED_LITERALS: dict[str, dict[str, tuple[int, str]]] = {
                                   "1e-12": (1, "Brent's xatol on the branch directions' angle")},
     "symkin/paths/trace.py": {"1e-9": (1, "START_CLOSURE: a model configuration that closes to this is on the "
                                           "curve (checked before tracing)")},
-    "symkin/plots/maps.py": {"1e-12": (1, _PLOT)},
     "symkin/plots/mechanism.py": {"1e-12": (1, _PLOT), "1e-300": (2, _GUARD), "1e-9": (3, _PLOT)},
     "symkin/plots/paths.py": {"1e-4": (1, "symlog's linear threshold (an axis scale)"), "1e-9": (1, _PLOT),
                               "1e-12": (1, _PLOT)},

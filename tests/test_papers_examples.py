@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import pytest
 
-from symkin.reproduce import discover, run_check
-from tests.conftest import EXAMPLES
+from symkin.reproduce import discover
+from tests.conftest import EXAMPLES, shared_run_check
 
 SCRIPTS = discover(EXAMPLES)
 
@@ -15,6 +15,6 @@ def test_there_are_examples():
 
 @pytest.mark.parametrize("script", SCRIPTS, ids=[s.stem for s in SCRIPTS])
 def test_paper_claims_hold(script):
-    result = run_check(script)
+    result = shared_run_check(script)  # run once per session: the reproduce tests read the same results
     assert result.claims, f"{script.name} makes no claims"
     assert result.ok, result.summary()

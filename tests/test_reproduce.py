@@ -59,7 +59,7 @@ def test_every_report_file_name_is_typable_and_unique(tmp_path):
 
 
 @pytest.mark.slow
-def test_the_paper_examples_report_names_are_typable(capsys, tmp_path):
+def test_the_paper_examples_report_names_are_typable(capsys, tmp_path, paper_checks_once):
     out = tmp_path / "rep"
     assert main(["reproduce", "--examples", str(EXAMPLES), "--out", str(out)]) == 0
     capsys.readouterr()

@@ -46,7 +46,12 @@ def add_arguments(p) -> None:
     p.add_argument("--no-refine", action="store_true", help="grid only: no refinement to exact curves")
     p.add_argument("--json", metavar="FILE|-", default=None, help="write the map as JSON to FILE, or - for stdout")
     p.add_argument("--npz", metavar="FILE", default=None, help="write the grid arrays and curves to FILE (.npz)")
-    p.add_argument("--plot", metavar="FILE.png", default=None, help="write a figure of the map")
+    p.add_argument("--plot", metavar="FILE.png", default=None,
+                   help="write a figure of the map: one column of a paper wide (3.5 in, no text under 9 pt), "
+                        "one column of panels per mode")
+    p.add_argument("--panels", action="store_true",
+                   help="with --plot FILE.png: one figure per panel instead, each one column wide, written to "
+                        "FILE-mode<ID>-<panel>.png (panel: im_indicator, dkp_input, dkp_output, mechanism)")
     par = p.add_mutually_exclusive_group()
     par.add_argument("--workers", type=_count, default=None, help="run on a local Dask cluster of N workers")
     par.add_argument("--scheduler", metavar="ADDRESS", default=None, help="run on an existing Dask scheduler")
@@ -198,11 +203,29 @@ def _plot(m, target, mech):
     return save_map_figure(m, target, mechanism=mech)
 
 
+def _plot_panels(m, target, mech) -> tuple[list[str], int]:
+    """``--plot FILE --panels``: each panel's figure written whole to FILE-<panel>.EXT; (notes, exit code)."""
+    from symkin.plots.maps import map_panel_figures, panel_path
+    from symkin.plots.paths import DPI
+
+    notes, code = [], 0
+    for name, fig in map_panel_figures(m, mechanism=mech).items():
+        out = panel_path(target, name)
+        fmt = out.suffix[1:] or "png"
+        saved = save_output(out, lambda tmp, fig=fig, fmt=fmt: fig.savefig(tmp, dpi=DPI, format=fmt), "--plot",
+                            figure=True)
+        notes.append(saved.problem or f"figure written to {saved.path}")
+        code = 1 if saved.problem else code
+    return notes, code
+
+
 def run(args) -> Output:
     from symkin.workspace.maps import workspace_map
     from symkin.workspace.parallel import dask_client
 
     mech = read_model(args.model)
+    if args.panels and not args.plot:
+        raise SymkinError("--panels: give --plot FILE.png too (the panels go to FILE-<panel>.png)")
     if args.plot:
         check_figure_file(args.plot, "--plot")  # every output before the map is computed
     if args.npz:
@@ -235,7 +258,11 @@ def run(args) -> Output:
         saved = save_output(args.npz, m.save, "--npz")
         notes.append(saved.problem or f"arrays written to {saved.path}")
         code = 1 if saved.problem else code
-    if args.plot:
+    if args.plot and args.panels:
+        written, failed = _plot_panels(m, args.plot, mech)
+        notes += written
+        code = max(code, failed)
+    elif args.plot:
         saved = save_output(args.plot, lambda tmp: _plot(m, tmp, mech), "--plot", figure=True)
         notes.append(saved.problem or f"figure written to {saved.path}")
         code = 1 if saved.problem else code

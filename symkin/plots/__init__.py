@@ -19,7 +19,7 @@ and returns the Axes (networkx ``draw`` style):
   DKP test functions) with the traced curves and the mode's workspace boundary (Figs. 14, 16);
 * :func:`plot_im_surface` — the IM indicator of a mode as a 3-D surface (Fig. 15);
 * :func:`plot_seed` — the mechanism at a mode's seed configuration, in its workspace;
-* :func:`save_map_figure` — rows = modes, columns = indicators (+ mechanism) in one PNG
+* :func:`save_map_figure` — columns = modes, rows = indicators (+ mechanism) in one PNG, one column wide
   (``symkin map ... --plot FILE.png``);
 * :func:`~symkin.plots.extra.require_matplotlib` — the clear error when the plots extra is missing.
 """

@@ -6,7 +6,8 @@ marked by type (IM, DKP-input, DKP-output, LIM — a link locked — as in :mod:
 and numbered as in the text report and the JSON ``singularities``.  Angles are absolute (the
 ``input_absolute`` / ``output_absolute`` of the JSON, ticks in [0°, 360°)) and a circuit is drawn
 continuous: it is cut only where it turns fully.  The figure is drawn at one-column size
-(:data:`COLUMN_WIDTH` inches) with no text under :data:`FONT` points.  A model without an output
+(:data:`~symkin.plots.paths.COLUMN_WIDTH` inches) with no text under
+:data:`~symkin.plots.paths.FONT` points.  A model without an output
 is drawn against the arclength along each branch instead.
 """
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
-from symkin.plots.paths import STYLE
+from symkin.plots.paths import COLUMN_WIDTH, DPI, FONT, STYLE
 from symkin.solutions.circuits import Singularities
 
 __all__ = ["LIM_STYLE", "plot_circuits", "circuits_figure", "save_circuits_figure"]
@@ -29,9 +30,6 @@ LIM_STYLE = STYLE[Kind.LIM]
 _MARKER_ORDER = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
 
 _COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
-#: one-column print size (inches) and the smallest text at that size (points): the figure is drawn at it
-COLUMN_WIDTH = 3.5
-FONT = 9
 
 
 def _offsets(result: Singularities, labels: list[str]) -> dict:
@@ -80,7 +78,11 @@ def _nearest_turn(value: float, period: float | None, drawn: np.ndarray) -> floa
 def _angle_formatter(period: float):
     from matplotlib.ticker import FuncFormatter
 
-    return FuncFormatter(lambda v, _: f"{np.remainder(v, period) + 0.0:g}")
+    def text(v, _):
+        r = np.remainder(v, period) + 0.0
+        return f"{period if (r == 0.0 and v > 0) else r:g}"  # a full turn at the right end reads 360, not 0 again
+
+    return FuncFormatter(text)
 
 
 def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
@@ -170,10 +172,12 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
     ax.set_xlabel("input " + axis_label(result.input, angle_in, off_in), fontsize=FONT)
     if angle_in and off_in is not None:
         ax.xaxis.set_major_formatter(_angle_formatter(period_in))
+        _quarter_turns(ax.xaxis, deg, ax.get_xlim())
     if has_output:
         ax.set_ylabel("output " + axis_label(result.output, angle_out, off_out), fontsize=FONT)
         if angle_out and off_out is not None:
             ax.yaxis.set_major_formatter(_angle_formatter(period_out))
+            _quarter_turns(ax.yaxis, deg, ax.get_ylim())
     else:
         ax.set_ylabel("arclength along the branch", fontsize=FONT)
     ax.tick_params(labelsize=FONT)
@@ -184,6 +188,16 @@ def plot_circuits(result: Singularities, ax=None, annotate: bool = True):
     ax.legend(fontsize=FONT, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False,
               handlelength=1.5, columnspacing=1.0)
     return ax
+
+
+def _quarter_turns(axis, deg: bool, limits) -> None:
+    """Ticks of an angle axis in degrees at multiples of 90° (45° on a span of 90° to 180°; else
+    matplotlib's), as a kinematician reads them."""
+    span = abs(limits[1] - limits[0])
+    if deg and span >= 90.0:
+        from matplotlib.ticker import MultipleLocator
+
+        axis.set_major_locator(MultipleLocator(90.0 if span >= 180.0 else 45.0))
 
 
 def _output_kind(result: Singularities) -> str | None:
@@ -209,7 +223,7 @@ def save_circuits_figure(result: Singularities, filename) -> FilePath:
     target = FilePath(filename)
     fig = circuits_figure(result)
     try:
-        fig.savefig(target, dpi=300, format=None if target.suffix else "png")
+        fig.savefig(target, dpi=DPI, format=None if target.suffix else "png")
     except OSError as exc:
         raise SymkinError(f"{target}: cannot write the figure ({exc.strerror or exc})") from exc
     return target

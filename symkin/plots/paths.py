@@ -21,7 +21,16 @@ from symkin.paths.trace import Path
 from symkin.plots.mechanism import added_nodes, coordinates, draw_leg_lines, draw_mechanism, is_3d, new_axes, set_equal_3d
 
 __all__ = ["plot_indicators", "plot_traces", "plot_input_output", "plot_event_configurations", "path_figure",
-           "save_path_figures", "abscissa", "event_label", "place_labels"]
+           "save_path_figures", "abscissa", "event_label", "place_labels", "place_point_labels", "COLUMN_WIDTH", "FONT", "DPI",
+           "floor_fonts"]
+
+#: one-column print width (inches) and the smallest text at that width (points): the figures of
+#: :mod:`symkin.plots` are drawn at ``COLUMN_WIDTH`` wide (or wider with text scaled by the same
+#: ratio), so none of their text prints under ``FONT`` points in one column of a paper
+COLUMN_WIDTH = 3.5
+FONT = 9
+#: resolution of the PNGs the commands write (a one-column figure is then ~1050 pixels wide)
+DPI = 300
 
 #: colour and marker of each test function and of its located events
 STYLE = {
@@ -37,7 +46,7 @@ _CURVES = (  # indicator key, style key, legend label
     (str(Kind.DKP_OUTPUT), Kind.DKP_OUTPUT, "DKP-output test"),
 )
 _EVENT_KINDS = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
-_PANELS_PER_ROW = 5  # small multiples of save_path_figures: panels per row
+_PANELS_PER_ROW = 3  # small multiples of save_path_figures: panels per row (one column wide)
 _LINESTYLE = {str(Kind.DKP_OUTPUT): (0, (5, 2)), str(Kind.BRANCH_POINT): ":"}  # dashed: visible where it overlaps DKP-input
 
 
@@ -70,16 +79,16 @@ def abscissa(path: Path, unit: str = "deg", x: str = "auto") -> tuple[np.ndarray
     steps = np.diff(inputs)
     monotone = bool(np.all(steps > 0) or np.all(steps < 0)) if steps.size else True
     if x == "input" or (x == "auto" and monotone):
-        along = ",\nalong the path from the model's configuration" if path.kind == "angle" else ""
+        along = ",\nfrom the model's configuration" if path.kind == "angle" else ""
         return inputs, "input", f"input {path.drive} [{name}]{along}"
     s = np.array([p.s for p in path.points], float)
-    why = "the input turns back, so the axis is the" if x == "auto" else ""
-    return s, "arclength", (f"{why}\narclength s along the path (in model length scales)" if why else
-                            "arclength s along the path (in model length scales)")
+    why = "\n(the input turns back)" if x == "auto" else ""
+    return s, "arclength", (f"arclength s [model lengths]{why}" if why else "arclength s along the path [model lengths]")
 
 
 def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", bifurcation: bool = False,
-                    annotate: bool = True, yscale: str = "linear", linthresh: float = 1e-4):
+                    annotate: bool = True, yscale: str = "linear", linthresh: float = 1e-4,
+                    numbers_only: bool = False):
     """Plot the indicators along ``path`` with its located singular events (paper Figs. 3c, 10).
 
     Drawn against the driving input when it is monotone along the path, else against the
@@ -114,6 +123,9 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
         Also draw the bifurcation test function.
     annotate : bool
         Write each event's input value next to its marker.
+    numbers_only : bool
+        Write the event's number alone (the figure of :func:`path_figure` gives the rest in
+        its event panels).
     yscale : {"linear", "symlog"}
         Vertical scale; ``"symlog"`` is linear within ``±linthresh`` and logarithmic outside.
     linthresh : float
@@ -161,8 +173,9 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
                 label=f"{kind} event{'s' if len(ex) > 1 else ''} (located)", gid=f"event:{kind}")
         if annotate:
             for (k, e), xe in zip(chosen, ex):
-                ax.annotate(event_label(path, k, e, unit, lines=True), (xe, 0.0), xytext=(0, 12),
-                            textcoords="offset points", ha="center", va="bottom", fontsize=9, color=st["colour"],
+                ax.annotate(str(k) if numbers_only else event_label(path, k, e, unit, lines=True), (xe, 0.0),
+                            xytext=(0, 12), textcoords="offset points", ha="center", va="bottom", fontsize=FONT,
+                            color=st["colour"],
                             zorder=6, gid=f"event-label:{k}",
                             bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
     if yscale == "symlog":
@@ -171,9 +184,11 @@ def plot_indicators(path: Path, ax=None, unit: str = "deg", *, x: str = "auto", 
     ax.set_xlabel(xlabel)
     ax.set_ylabel("indicator (dimensionless)")
     if not ax.get_title():
-        ax.set_title(f"Indicators along the path ({path.stop_reason})", fontsize=10)
+        ax.set_title(f"Indicators along the path ({path.stop_reason})", fontsize=FONT)
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, fontsize=8, frameon=False)
+    lines = len(ax.get_xlabel().splitlines())  # under the tick labels and the axis label
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=2.2 + 1.3 * lines,
+              ncol=1 if numbers_only else 2, fontsize=FONT, frameon=False)
     return ax
 
 
@@ -185,6 +200,24 @@ def _renderer(ax):
 
         FigureCanvasAgg(fig)
     return fig.canvas.get_renderer()
+
+
+def floor_fonts(fig, size: float = FONT) -> None:
+    """Raise every text of ``fig`` under ``size`` points to ``size`` (tick labels included, also
+    those drawn later): the last step of a figure meant for print, for the texts that helpers
+    such as :func:`~symkin.plots.mechanism.draw_mechanism` write at their own sizes."""
+    from matplotlib.text import Text
+
+    for ax in fig.get_axes():
+        for axis in (ax.xaxis, ax.yaxis, getattr(ax, "zaxis", None)):
+            if axis is None:
+                continue
+            for which, ticks in (("major", axis.get_major_ticks()), ("minor", axis.get_minor_ticks())):
+                if any(t.label1.get_fontsize() < size or t.label2.get_fontsize() < size for t in ticks):
+                    axis.set_tick_params(which=which, labelsize=size)
+    for t in fig.findobj(Text):
+        if t.get_fontsize() < size:
+            t.set_fontsize(size)
 
 
 def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
@@ -229,6 +262,58 @@ def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
     return labels
 
 
+#: where :func:`place_point_labels` tries a label around its point: directions (unit offsets), then rings
+_AROUND = ((1, 1), (1, -1), (-1, 1), (-1, -1), (1, 0), (-1, 0), (0, 1), (0, -1))
+
+
+def place_point_labels(ax, prefix: str = "event-label:", gap: float = 2.0, rings: int = 8) -> list:
+    """Move the point labels of ``ax`` (annotations whose ``gid`` starts with ``prefix``) so no two overlap.
+
+    Each label, from left to right, takes the first place around its point — the eight
+    directions at growing distances (``rings``), then straight up, tier after tier — where its
+    box, as rendered, meets no label placed before (``gap`` points apart) and stays inside the
+    axes when it can.  The placement depends on the axes' size: :func:`path_figure` calls it
+    again once the layout is fixed.
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+        The labels, in the order placed.
+    """
+    labels = sorted((t for t in ax.texts if (t.get_gid() or "").startswith(prefix) and hasattr(t, "xyann")),
+                    key=lambda t: tuple(t.xy))
+    if not labels:
+        return labels
+    renderer = _renderer(ax)
+    ax.get_xlim()  # the limits and the aspect as they will be drawn
+    ax.apply_aspect()
+    px = renderer.points_to_pixels(1.0)
+    frame = ax.get_window_extent(renderer)
+    placed = []
+    for t in labels:
+        size = t.get_fontsize()
+        candidates = [(dx * (3 + r * size), dy * (3 + r * size)) for r in range(rings) for dx, dy in _AROUND]
+        candidates += [(0.0, 3 + (rings + j) * size) for j in range(len(labels) + 1)]
+        choice = None
+        for inside in (True, False):
+            for dx, dy in candidates:
+                t.set_horizontalalignment("left" if dx > 0 else ("right" if dx < 0 else "center"))
+                t.set_verticalalignment("bottom" if dy > 0 else ("top" if dy < 0 else "center"))
+                t.xyann = (dx, dy)
+                box = t.get_window_extent(renderer).padded(gap * px / 2)
+                if any(box.overlaps(b) for b in placed):
+                    continue
+                if inside and not (frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0
+                                   and box.y1 <= frame.y1):
+                    continue
+                choice = box
+                break
+            if choice is not None:
+                break
+        placed.append(choice if choice is not None else t.get_window_extent(renderer))
+    return labels
+
+
 def _events_by_kind(path: Path):
     """``[(kind, [(number, event), ...])]`` for each kind of :data:`_EVENT_KINDS` that occurs, numbered as the report."""
     numbered = [(k, e) for k, e in enumerate(path.singular_events(), 1) if e.kind in _EVENT_KINDS]
@@ -240,7 +325,8 @@ def _num(v) -> float:
     return math.nan if v is None else float(v)
 
 
-def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True, annotate: bool = True):
+def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True, annotate: bool = True,
+                numbers_only: bool = False):
     """Plot the traces of nodes along ``path``, with the located singular configurations (Fig. 5).
 
     Parameters
@@ -256,7 +342,10 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
         triangles.
     annotate : bool
         Write the number and kind of each singular event next to its dot (numbered as in
-        the text report and the JSON ``events``).
+        the text report and the JSON ``events``), placed so that no two labels overlap
+        (:func:`place_point_labels`).
+    numbers_only : bool
+        Write the number alone (the figure of :func:`path_figure` names the kinds elsewhere).
 
     Returns
     -------
@@ -309,28 +398,25 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
             ax.plot(*pts.T, color="#b0b0b0", linewidth=2.0, zorder=1, gid=f"start-link:{lname}")
         fixed_idx = [idx[n] for n in mech.fixed]
         if fixed_idx:
-            ax.plot(*first[fixed_idx].T, linestyle="none", marker="^", markersize=10, color="black", zorder=3,
+            ax.plot(*first[fixed_idx].T, linestyle="none", marker="^", markersize=8, color="black", zorder=3,
                     gid="fixed", label="fixed nodes")
         everything.append(coordinates(mech)[:, :ncoord])
 
     for n, k in zip(nodes, cols):
         ax.plot(*xyz[:, k, :].T, linewidth=1.6, label=f"trace of {n}", gid=f"trace:{n}", zorder=2)
-    ax.plot(*xyz[0, cols, :].T, linestyle="none", marker="o", markersize=6, markerfacecolor="white",
+    ax.plot(*xyz[0, cols, :].T, linestyle="none", marker="o", markersize=5, markerfacecolor="white",
             markeredgecolor="black", zorder=4, gid="start", label="start")
 
     events = path.singular_events()
+    pending = []  # (number, text, point): labelled once the limits are set (3-D: at the projected point)
     if events:
         dots = np.vstack([np.asarray(e.coordinates, float)[cols, :ncoord] for e in events])
-        ax.plot(*dots.T, linestyle="none", marker="o", markersize=7, color="black", zorder=5, gid="events",
-                label="singular configurations (located)")
+        ax.plot(*dots.T, linestyle="none", marker="o", markersize=5, color="black", zorder=5, gid="events",
+                label="nodes at the events")
         if annotate:
             for k, e in enumerate(events, 1):
-                p = np.asarray(e.coordinates, float)[cols[0], :ncoord]
-                if three_d:
-                    ax.text(*p, f"  {k}. {e.kind}", fontsize=8, gid=f"event-label:{k}")
-                else:
-                    ax.annotate(f"{k}. {e.kind}", p, xytext=(6, -10), textcoords="offset points", fontsize=8,
-                                gid=f"event-label:{k}")
+                pending.append((k, str(k) if numbers_only else f"{k}. {e.kind}",
+                                np.asarray(e.coordinates, float)[cols[0], :ncoord]))
 
     allp = np.vstack(everything)
     if three_d:
@@ -338,11 +424,21 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
         ax.set_zlabel("z")
     else:
         ax.set_aspect("equal", adjustable="datalim")
+    for k, text, p in pending:
+        if three_d:  # a 2-D annotation at the point's projection in this view (as matplotlib's 3-D examples do)
+            from mpl_toolkits.mplot3d import proj3d
+
+            p = proj3d.proj_transform(*p, ax.get_proj())[:2]
+        ax.annotate(text, p, xytext=(4, 4), textcoords="offset points", fontsize=FONT, zorder=6,
+                    gid=f"event-label:{k}",
+                    bbox=dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
     ax.set_xlabel("x")
     ax.set_ylabel("y" if (three_d or mech.dim == 2) else "y (x-y projection)")
     if not ax.get_title():
-        ax.set_title(f"Node traces: {mech.name}", fontsize=10)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, borderaxespad=0.0)
+        ax.set_title(f"Node traces: {mech.name}", fontsize=FONT)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=FONT, borderaxespad=0.0)
+    if annotate:
+        place_point_labels(ax)
     return ax
 
 
@@ -466,7 +562,8 @@ def _panel_limits(path: Path, three_d: bool) -> np.ndarray:
     return np.vstack([centre - half, centre + half])
 
 
-def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, traces: bool = True):
+def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, traces: bool = True,
+                              compact: bool = False):
     """Draw the mechanism at each located singular configuration, one small panel per event.
 
     Small multiples: every panel has the same axes limits (the extent of the whole path), so
@@ -484,6 +581,9 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
         Unit of angle inputs in the titles.
     traces : bool
         Draw the node traces of the whole path in light grey behind each mechanism.
+    compact : bool
+        For small panels: the title over short lines (:func:`event_label` with ``lines=True``,
+        then the types and DOF) and no node names.
 
     Returns
     -------
@@ -529,11 +629,17 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
                         gid=f"context-trace:{path.node_names[j]}")
         a = e.analysis
         detail = f"\n{', '.join(a.types) or 'regular'}; L = {a.dof}" if a is not None else ""
+        if compact and a is not None:  # short lines; the kind is on the first line already
+            import textwrap
+
+            types = ", ".join(t for t in a.types if t != e.kind)
+            detail = "\n" + "\n".join(textwrap.wrap((f"also {types}; " if types else "") + f"L = {a.dof}", 16))
         at = mech.with_coordinates(e.coordinates)
-        draw_mechanism(at, ax=ax, labels=True, title=event_label(path, k, e, unit) + detail)
+        title = event_label(path, k, e, unit, lines=compact) + detail
+        draw_mechanism(at, ax=ax, labels=not compact, title=title)
         if e.kind == Kind.DKP_INPUT and not three_d:  # type 2: the legs' lines are concurrent
             draw_leg_lines(at, ax=ax)
-        ax.title.set_fontsize(8)
+        ax.title.set_fontsize(FONT)
         lim = _panel_limits(path, three_d)
         if three_d:
             set_equal_3d(ax, lim)
@@ -541,55 +647,74 @@ def plot_event_configurations(path: Path, axes=None, unit: str = "deg", *, trace
             ax.set_xlim(lim[0, 0], lim[1, 0])
             ax.set_ylim(lim[0, 1], lim[1, 1])
             ax.set_aspect("equal", adjustable="box")
-        ax.tick_params(labelsize=7)
+        ax.tick_params(labelsize=FONT)
     return axes
 
 
 def path_figure(path: Path, unit: str = "deg"):
     """The figure that :func:`save_path_figures` writes, on a standalone ``Figure`` (Agg canvas).
 
-    Top: the indicators (:func:`plot_indicators`) and the node traces (:func:`plot_traces`);
-    below, in a subfigure, one small panel per singular event
-    (:func:`plot_event_configurations`), up to five per row.  pyplot is not touched.
+    Drawn for one column of a paper (:data:`COLUMN_WIDTH` inches wide, no text under
+    :data:`FONT` points), one panel under another: the indicators (:func:`plot_indicators`),
+    the input–output curve when the model has one output (:func:`plot_input_output`) and the
+    node traces (:func:`plot_traces`), the events numbered on each as in the text report;
+    below, in a subfigure, the mechanism at each singular event
+    (:func:`plot_event_configurations`, ``compact``), three per row, titled with the event's
+    kind, input, absolute angle, types and DOF.  pyplot is not touched.
 
     Returns
     -------
     matplotlib.figure.Figure
         ``fig.subfigs`` is ``(top, events)`` when the path has singular events.
     """
+    import textwrap
+
     _check(path)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     n_ev = len(path.singular_events())
     rows = -(-n_ev // _PANELS_PER_ROW) if n_ev else 0
-    fig = Figure(figsize=(14.0, 5.6 + 3.6 * rows), layout="constrained")
-    FigureCanvasAgg(fig)
-    top, bottom = fig.subfigures(2, 1, height_ratios=[5.6, 3.6 * rows]) if rows else (fig, None)
     three_d = path.mechanism.dim == 3
     io = _output(path) is not None
-    ncol = 3 if io else 2
-    left = top.add_subplot(1, ncol, 1)
+    heights = [3.3] + ([2.9] if io else []) + [3.6]  # inches: each top panel with its labels and legend
+    events_h = (1.8 * rows + 0.35) if rows else 0.0
+    fig = Figure(figsize=(COLUMN_WIDTH, sum(heights) + events_h + 0.55), layout="constrained")
+    FigureCanvasAgg(fig)
+    top, bottom = fig.subfigures(2, 1, height_ratios=[sum(heights), events_h]) if rows else (fig, None)
+    grid = top.add_gridspec(len(heights), 1, height_ratios=heights)
+    left = top.add_subplot(grid[0])
     if io:
-        plot_input_output(path, ax=top.add_subplot(1, ncol, 2), unit=unit)
-    right = top.add_subplot(1, ncol, ncol, projection="3d" if three_d else None)
-    left.set_title("Indicators along the path", fontsize=10)
-    right.set_title("Node traces", fontsize=10)
-    plot_indicators(path, ax=left, unit=unit)
-    plot_traces(path, ax=right)
+        middle = plot_input_output(path, ax=top.add_subplot(grid[1]), unit=unit)
+        middle.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=3.4, ncol=2, fontsize=FONT,
+                      frameon=False, handlelength=1.5, columnspacing=1.0)  # under the axes: it covers no data
+    right = top.add_subplot(grid[-1], projection="3d" if three_d else None)
+    left.set_title("Indicators along the path", fontsize=FONT)
+    right.set_title("Node traces", fontsize=FONT)
+    plot_indicators(path, ax=left, unit=unit, numbers_only=True)
+    plot_traces(path, ax=right, numbers_only=True)
+    right.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=3.5, ncol=2, fontsize=FONT,
+                 frameon=False, handlelength=1.5, columnspacing=1.0)
     if rows:
-        # a few panels keep the size they have in a full row, from the left
-        columns = max(min(n_ev, _PANELS_PER_ROW), _PANELS_PER_ROW - 1)
-        panels = [bottom.add_subplot(rows, columns, k + 1, projection="3d" if three_d else None)
+        panels = [bottom.add_subplot(rows, _PANELS_PER_ROW, k + 1, projection="3d" if three_d else None)
                   for k in range(n_ev)]
-        plot_event_configurations(path, axes=panels, unit=unit)
-        bottom.suptitle("The mechanism at each singular configuration (same scale)", fontsize=10)
-    fig.suptitle(f"{path.mechanism.name} — driven by {path.drive}; {n_ev} singular event(s); "
-                 f"stopped: {path.stop_reason}", fontsize=11)
+        plot_event_configurations(path, axes=panels, unit=unit, compact=True)
+        for ax in panels:  # small multiples at one scale, the traces' axes give it: no ticks
+            ax.set_xlabel("")
+            ax.set_ylabel("")
+            if three_d:
+                ax.set_zlabel("")
+            ax.tick_params(labelbottom=False, labelleft=False)
+        bottom.suptitle("The mechanism at each singular event (same scale)", fontsize=FONT)
+    title = (f"{path.mechanism.name}, driven by {path.drive}: {n_ev} singular event(s); "
+             f"stopped: {path.stop_reason}")
+    fig.suptitle("\n".join(textwrap.wrap(title, int(COLUMN_WIDTH * 72 / (0.52 * FONT)))), fontsize=FONT)
+    floor_fonts(fig, FONT)
     # the labels' places depend on the axes' sizes: place them again once the layout is done, then keep it
     for _ in range(2):
         fig.canvas.draw()
         place_labels(left)
+        place_point_labels(right)
     fig.canvas.draw()
     fig.set_layout_engine("none")
     return fig
@@ -610,7 +735,7 @@ def save_path_figures(path: Path, filename, unit: str = "deg") -> FilePath:
     target = FilePath(filename)
     fig = path_figure(path, unit)
     try:
-        fig.savefig(target, dpi=110, format=None if target.suffix else "png")
+        fig.savefig(target, dpi=DPI, format=None if target.suffix else "png")
     except OSError as exc:
         raise SymkinError(f"{target}: cannot write the figure ({exc.strerror or exc})") from exc
     return target

@@ -81,3 +81,8 @@ def test_circuits_are_not_cut_at_the_wrap_and_every_marker_kind_has_a_legend_ent
     scale = 3.5 / fig.get_figwidth()
     texts = [t for t in fig.findobj(matplotlib.text.Text) if t.get_text() and t.get_visible()]
     assert texts and min(t.get_fontsize() for t in texts) * scale >= 9.0
+    # an angle axis reads in quarter turns, each tick label once (the full turn at the right end is 360, not 0)
+    lo, hi = ax.get_xlim()
+    ticks = [(t.get_position()[0], t.get_text()) for t in ax.get_xticklabels() if lo <= t.get_position()[0] <= hi]
+    assert [v % 90 for v, _ in ticks] == [0.0] * len(ticks) and len(ticks) >= 4
+    assert len({label for _, label in ticks}) == len(ticks)

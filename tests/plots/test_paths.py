@@ -37,6 +37,21 @@ def rrr_path():
 
 
 @pytest.fixture(scope="module")
+def figure_of():
+    """``path_figure(path)`` drawn once per path for this module (the tests only read the figures)."""
+    from symkin.plots.paths import path_figure
+
+    drawn = {}
+
+    def get(path):
+        if id(path) not in drawn:
+            drawn[id(path)] = (path, path_figure(path))  # the path kept: its id stays its own
+        return drawn[id(path)][1]
+
+    return get
+
+
+@pytest.fixture(scope="module")
 def rssr_path():
     return trace(symkin.catalogue.get("rssr"), stop=360, unit="deg")
 
@@ -335,10 +350,10 @@ def test_traces_number_their_events(fourbar_path):
     assert sorted(t.get_text() for t in ax.texts) == ["1. DKP-output", "2. DKP-output"]
 
 
-def test_path_figure_has_one_panel_per_event_and_says_when_the_axis_is_arclength(rrr_path, fourbar_path):
+def test_path_figure_has_one_panel_per_event_and_says_when_the_axis_is_arclength(rrr_path, fourbar_path, figure_of):
     from symkin.plots.paths import path_figure
 
-    fig = path_figure(rrr_path)
+    fig = figure_of(rrr_path)
     top, events = fig.subfigs
     assert len(top.axes) == 2 and len(events.axes) == len(rrr_path.singular_events()) == 4
     assert [ax.get_title().split(" ")[0] for ax in events.axes] == ["1.", "2.", "3.", "4."]
@@ -347,7 +362,7 @@ def test_path_figure_has_one_panel_per_event_and_says_when_the_axis_is_arclength
     labels = sorted(t.get_gid() for t in indicators.texts)
     assert labels == [f"event-label:{k}" for k in (1, 2, 3, 4)]
     # the four-bar's input is monotone: the axis is the input and says nothing of arclength
-    top, events = path_figure(fourbar_path).subfigs
+    top, events = figure_of(fourbar_path).subfigs
     assert "arclength" not in top.axes[0].get_xlabel() and len(events.axes) == 2
     # no singular event: no panels, one figure
     quiet = trace(symkin.catalogue.get("fourbar_appendix"), stop=30, unit="deg")
@@ -371,11 +386,9 @@ def _assert_no_two_intersect(boxes):
 
 
 @pytest.mark.parametrize("name", ["rrr_3", "peaucellier"])
-def test_event_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path):
-    from symkin.plots.paths import path_figure
-
+def test_event_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path, figure_of):
     path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path}[name]
-    fig = path_figure(path)
+    fig = figure_of(path)
     indicators = fig.subfigs[0].axes[0]
     boxes = _label_boxes(fig, indicators)
     assert len(boxes) == len(path.singular_events())
@@ -389,8 +402,8 @@ def test_event_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peau
     _assert_no_two_intersect(_label_boxes(fig, ax))
 
 
-def test_input_output_curve_is_the_output_against_the_input_with_the_events_on_it(fourbar_path):
-    from symkin.plots.paths import path_figure, plot_input_output
+def test_input_output_curve_is_the_output_against_the_input_with_the_events_on_it(fourbar_path, figure_of):
+    from symkin.plots.paths import plot_input_output
 
     ax = plot_input_output(fourbar_path)
     line = by_gid(ax.lines, "input-output")
@@ -407,7 +420,7 @@ def test_input_output_curve_is_the_output_against_the_input_with_the_events_on_i
         near = np.abs(line.get_xdata() - xe) < 15
         assert ye >= y[near].max() - 1e-6 or ye <= y[near].min() + 1e-6
     assert "[deg]" in ax.get_xlabel() and "rotation:rocker" in ax.get_ylabel()
-    assert len(path_figure(fourbar_path).subfigs[0].axes) == 3  # indicators, input–output, traces
+    assert len(figure_of(fourbar_path).subfigs[0].axes) == 3  # indicators, input–output, traces
     with pytest.raises(SymkinError, match="no scalar output"):
         plot_input_output(trace(symkin.catalogue.get("rrr_3"), stop=30, unit="deg"))
 
@@ -452,3 +465,60 @@ def test_type_2_panels_draw_the_legs_lines_meeting_in_one_point(rrr_path):
             d = (c - b) / np.linalg.norm(c - b)
             w = point - b
             assert abs(w[0] * d[1] - w[1] * d[0]) < 1e-3 * rrr_path.mechanism.length_scale
+
+
+# ---------------------------------------------------------------------- print size, trace labels
+def test_path_figures_print_at_9_points_or_more_in_one_column(fourbar_path, rrr_path, peaucellier_path, rssr_path,
+                                                              figure_of):
+    from tests.plots.print_size import COLUMN, assert_printable
+
+    for path in (fourbar_path, rrr_path, peaucellier_path, rssr_path):
+        fig = figure_of(path)
+        assert fig.get_size_inches()[0] == pytest.approx(COLUMN)
+        assert_printable(fig)
+
+
+@pytest.mark.parametrize("name", ["rrr_3", "peaucellier", "rssr"])
+def test_trace_labels_do_not_overlap_in_the_rendered_figure(name, rrr_path, peaucellier_path, rssr_path, figure_of):
+    """The node-traces panel numbers every event at its dot; close events (peaucellier: 1 and 3 at
+    one configuration, the 3-RRR's 2 and 4 side by side) still give labels that do not overlap; on a
+    spatial mechanism's 3-D traces (the RSSR) the labels sit at the dots' projections."""
+    path = {"rrr_3": rrr_path, "peaucellier": peaucellier_path, "rssr": rssr_path}[name]
+    fig = figure_of(path)
+    traces = fig.subfigs[0].axes[-1]
+    assert traces.get_title() == "Node traces"
+    boxes = _label_boxes(fig, traces)
+    assert sorted(g for g, _ in boxes) == sorted(f"event-label:{k}" for k in range(1, len(path.singular_events()) + 1))
+    _assert_no_two_intersect(boxes)
+    frame = traces.get_window_extent()
+    assert all(frame.x0 <= b.x0 and b.x1 <= frame.x1 and frame.y0 <= b.y0 and b.y1 <= frame.y1 for _, b in boxes)
+    # each label is next to its dot: within a few label heights of the node it numbers
+    renderer = fig.canvas.get_renderer()
+    for t in traces.texts:
+        box = t.get_window_extent(renderer)
+        dot = traces.transData.transform(t.xy)
+        gap = max(box.x0 - dot[0], dot[0] - box.x1, box.y0 - dot[1], dot[1] - box.y1, 0.0)
+        assert gap < 6 * box.height
+    # standalone, full labels on a small axes (a spatial path: projected on x-y, and in 3-D)
+    fig, ax = plt.subplots(figsize=(3.5, 3.0))
+    plot_traces(path, ax=ax)
+    _assert_no_two_intersect(_label_boxes(fig, ax))
+    if path.mechanism.dim == 3:
+        ax = plot_traces(path)
+        assert ax.name == "3d" and len(ax.texts) == len(path.singular_events())
+        _assert_no_two_intersect(_label_boxes(ax.figure, ax))
+
+
+def test_place_point_labels_separates_labels_of_one_point():
+    """Five labels at one point: five places, no two boxes meeting."""
+    from symkin.plots.paths import place_point_labels
+
+    fig, ax = plt.subplots(figsize=(3.5, 3.0))
+    ax.plot([0, 1], [0, 1])
+    for k in range(1, 6):
+        ax.annotate(f"{k}. DKP-output", (0.5, 0.5), xytext=(4, 4), textcoords="offset points", fontsize=9,
+                    gid=f"event-label:{k}")
+    before = _label_boxes(fig, ax)
+    assert before[0][1].overlaps(before[1][1])  # drawn where they were asked: on one another
+    place_point_labels(ax)
+    _assert_no_two_intersect(_label_boxes(fig, ax))

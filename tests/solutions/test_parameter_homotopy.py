@@ -112,12 +112,13 @@ def test_3rpr_two_real_and_four_complex_assembly_modes():
 
 @pytest.mark.slow
 @pytest.mark.skipif(shutil.which("phc") is None, reason="PHCpack (Debian package phcpack) is not installed")
-def test_planar_gough_stewart_against_phcpack(tmp_path):
+def test_planar_gough_stewart_against_phcpack(tmp_path, gough_stewart_total_degree):
     """4 real and 24 complex (PHCpack's blackbox, 9-unknown formulation) vs the parameter homotopy."""
-    m = read_model(HERE.parent / "workspace" / "models" / "gough_stewart.toml")
-    values = {f"slide:s{i}": 0.0 for i in range(1, 7)}
-    values["slide:s1"] = 0.05
-    result = solve_all(m, values, method="total-degree")
+    # total degree: the session's solve (tests/conftest.py), shared with test_solve_all: its last, most complete one
+    m, values, results = gough_stewart_total_degree
+    assert m.name == read_model(HERE.parent / "workspace" / "models" / "gough_stewart.toml").name
+    assert values == {**{f"slide:s{i}": 0.0 for i in range(1, 7)}, "slide:s1": 0.05}
+    result = results[-1]
     # the parameter homotopy: 28 start solutions by monodromy on the leg-reduced family (21 unknowns)
     par = solve_all(m, values, method="parameter")
     real, complex_ = phc_counts(m, values, tmp_path)

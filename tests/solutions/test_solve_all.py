@@ -434,24 +434,17 @@ def test_complex_endpoint_of_the_squared_up_system_only_is_not_counted(monkeypat
 
 
 @pytest.mark.slow
-def test_planar_gough_stewart_counts_only_verified_complex_solutions():
+def test_planar_gough_stewart_counts_only_verified_complex_solutions(gough_stewart_total_degree):
     """4 real + 24 complex, as PHCpack's polyhedral blackbox on a 9-unknown formulation (issue 17)."""
-    from pathlib import Path
-
-    from symkin.model.model_file import read_model
-
-    m = read_model(Path(__file__).resolve().parents[1] / "workspace" / "models" / "gough_stewart.toml")
-    values = {f"slide:s{i}": 0.0 for i in range(1, 7)}
-    values["slide:s1"] = 0.05
     # Bertini's total-degree paths start from a random γ and now and then one fails: every count is of
     # verified solutions (never above the truth), so up to three solves are taken and the largest kept
+    # (the solves: tests/conftest.py, gough_stewart_total_degree, shared with test_parameter_homotopy)
+    m, values, results = gough_stewart_total_degree
+    assert values == {**{f"slide:s{i}": 0.0 for i in range(1, 7)}, "slide:s1": 0.05}
     counts = []
-    for _ in range(3):
-        result = solve_all(m, values, method="total-degree")
+    for result in results:
         assert len(result.solutions) == 4 and result.complex <= 24
         counts.append(result.complex)
-        if result.complex == 24:
-            break
     # 28 were counted before verification: endpoints of the reduced system that fail the original
     # equations (4 to 8 of them, as the random start goes) are now rejected, not counted
     assert max(counts) == 24, counts
