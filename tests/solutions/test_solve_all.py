@@ -350,7 +350,10 @@ def test_spatial_moving_line_slider_redundant_cross_product_component():
         expected += [np.concatenate([cc, sd * cc / np.linalg.norm(cc)]) for sd in (1, -1)]
     result = solve_all(m, {"velocity:C.x": 0.2})
     assert_same_configurations(result, expected, ["C", "D"])
-    assert result.complex == 0 and result.rejected == 0
+    # the line is two equations (the cross product's components along the line's normals at the model);
+    # where the cross product turns along the line itself they hold off the line: such endpoints are
+    # rejected by the check on the original equations, never counted (how many Bertini reaches varies)
+    assert result.complex == 0 and result.rejected <= 2
 
 
 def test_a_failed_bertini_solve_is_retried_then_reported(monkeypatch):
