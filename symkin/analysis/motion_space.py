@@ -27,6 +27,7 @@ from functools import cached_property
 import numpy as np
 
 from symkin.analysis import indicators, sparse
+from symkin.analysis.configuration_rows import ConfigurationRows
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.geometric_matrix import (constraint_rows, coordinate_labels, parameters_matrix, plan,
                                              rotation_rows)
@@ -34,41 +35,6 @@ from symkin.numeric.linalg import svd_factors, svd_rank
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["ConfigurationRows", "MotionSpace", "model_rows", "rows_for", "motion_space", "motion_space_of"]
-
-
-@dataclass(frozen=True, eq=False)
-class ConfigurationRows:
-    """The rows at one configuration that the motion space and the classification need.
-
-    Attributes
-    ----------
-    mechanism : Mechanism
-        Topology, labels, inputs and outputs; its own coordinates are the configuration
-        only when ``xyz`` is None.
-    J : ndarray (m, D)
-        Dimensionless constraint rows over all coordinates, in the order and with the
-        owners of :func:`~symkin.numeric.geometric_matrix.constraint_rows`.
-    free_index : ndarray of int
-        Indices of the free coordinates among the D.
-    xyz : ndarray (n_nodes, dim) or None
-        The configuration, when it is not the mechanism's own.
-    parameters : dict
-        Parameter rows already evaluated at the configuration: ``tuple(params) →
-        (rows (k, D), labels)``, physical units, as
-        :func:`~symkin.numeric.geometric_matrix.parameters_matrix` gives them; any other
-        list is computed from the mechanism at ``xyz``.
-    sparse : SparseRows or None
-        For a large model (:mod:`symkin.analysis.sparse`): ``J`` is then a
-        ``scipy.sparse`` matrix and this the
-        :class:`~symkin.numeric.sparse_rows.SparseRows` it comes from (owners, artefacts).
-    """
-
-    mechanism: Mechanism
-    J: np.ndarray
-    free_index: np.ndarray
-    xyz: np.ndarray | None = None
-    parameters: dict = field(default_factory=dict)
-    sparse: object = None
 
 
 def model_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) -> ConfigurationRows:

@@ -41,6 +41,8 @@ import numpy as np
 import scipy.sparse as sps
 from scipy.sparse.linalg import ArpackNoConvergence
 
+from symkin.analysis.configuration_rows import ConfigurationRows
+from symkin.analysis.constraint_labels import PAIR_OWNER, constraint_labels
 from symkin.analysis.relations import Relation
 from symkin.errors import ModelError, Problem, SymkinError
 from symkin.model.mechanism import Mechanism
@@ -118,7 +120,6 @@ def check_dense_size(mech: Mechanism) -> None:
 
 def sparse_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT):
     """The :class:`~symkin.analysis.motion_space.ConfigurationRows` of ``mech`` with sparse rows."""
-    from symkin.analysis.motion_space import ConfigurationRows
 
     rows = sparse_constraint_rows(mech, tolerances)
     return ConfigurationRows(mech, rows.matrix, rows.free_index, sparse=rows)
@@ -160,12 +161,11 @@ def _shared_simplex_pairs(owners, touching: np.ndarray, sizes: dict) -> dict[int
     the representative the dense path gives (its stresses are orthogonal to the difference
     of two copies).
     """
-    from symkin.analysis.statics import _PAIR
 
     first: dict[frozenset, int] = {}
     out: dict[int, list[int]] = {}
     for r in touching.tolist():
-        m = _PAIR.match(owners[r])
+        m = PAIR_OWNER.match(owners[r])
         if m and sizes.get(m["link"], 2) >= 3:
             key = frozenset((m["a"], m["b"]))
             if key in first:
@@ -286,7 +286,6 @@ class SparseStresses(Sequence):
 
 def sparse_stresses(mech: Mechanism, ms, tolerances: Tolerances) -> tuple[SparseStresses, int]:
     """The self-stresses (:class:`SparseStresses`) of a sparse motion space ``ms`` and the artefacts' count."""
-    from symkin.analysis.statics import constraint_labels
 
     info = ms.sparse
     touching = ms.effective_rows

@@ -49,12 +49,11 @@ symkin chose).
 """
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
+from symkin.analysis.constraint_labels import PAIR_OWNER, RIGIDITY_OWNER, constraint_labels
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.analysis.relations import Relation, canonical_relations
 from symkin.model.mechanism import Mechanism
@@ -63,12 +62,6 @@ from symkin.numeric.linalg import left_null_space
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["Statics", "self_stresses", "constraint_labels", "frame_dependent"]
-
-_PAIR = re.compile(r"^link (?P<link>.+) \((?P<a>[^()]+)-(?P<b>[^()]+)\)$")
-_RIGIDITY = re.compile(r"^link (?P<link>.+) \(rigidity out of its hull\)$")
-_SLIDER = re.compile(r"^slider (?P<id>.+)$")
-_AFFINE = re.compile(r"^link (?P<link>.+) \(affine (?P<node>[^()]+)\)$")
-
 
 @dataclass(frozen=True)
 class Statics:
@@ -97,44 +90,6 @@ class Statics:
     warning: str | None = None
 
 
-def constraint_labels(mech: Mechanism, owners) -> tuple[str, ...]:
-    """Labels of the constraint rows (see module docstring) from their ``owners``.
-
-    >>> from symkin.model.catalogue import get
-    >>> from symkin.numeric.geometric_matrix import constraint_rows
-    >>> m = get("slider_crank")
-    >>> constraint_labels(m, constraint_rows(m).owners)
-    ('crank', 'rod', 'slider:piston')
-    """
-    return _labels(tuple((name, len(ns)) for name, ns in mech.links), tuple(owners))
-
-
-@lru_cache(maxsize=1024)
-def _labels(sizes: tuple, owners: tuple) -> tuple[str, ...]:
-    """Cached on the topology: a mechanism moved along a path keeps its owners."""
-    sizes = dict(sizes)
-    counts: dict[str, int] = {}
-    for o in owners:
-        counts[o] = counts.get(o, 0) + 1
-    seen: dict[str, int] = {}
-    out = []
-    for o in owners:
-        seen[o] = seen.get(o, 0) + 1
-        k = seen[o]
-        if m := _PAIR.match(o):
-            link = m["link"]
-            out.append(link if sizes.get(link) == 2 else f"{link}[{m['a']}-{m['b']}]")
-        elif m := _RIGIDITY.match(o):
-            out.append(f"{m['link']}:rigidity[{k}]")
-        elif m := _AFFINE.match(o):
-            out.append(f"{m['link']}:affine[{m['node']}]")
-        elif m := _SLIDER.match(o):
-            out.append(f"slider:{m['id']}" if counts[o] == 1 else f"slider:{m['id']}[{k}]")
-        else:  # a new kind of row in the core: keep its owner as the label
-            out.append(o if counts[o] == 1 else f"{o}[{k}]")
-    return tuple(out)
-
-
 def frame_dependent(label: str) -> bool:
     """Whether a constraint row's weight depends on the frame (a normal chosen by symkin).
 
@@ -159,10 +114,10 @@ def _artefact_vectors(mech: Mechanism, owners, jr: np.ndarray, threshold: float)
     pairs: dict[frozenset, list[int]] = {}
     degenerate = set()
     for r, o in enumerate(owners):
-        if (m := _PAIR.match(o)) and size[m["link"]] >= 3:
+        if (m := PAIR_OWNER.match(o)) and size[m["link"]] >= 3:
             bodies.setdefault(m["link"], []).append(r)
             pairs.setdefault(frozenset((m["a"], m["b"])), []).append(r)
-        elif m := _RIGIDITY.match(o):
+        elif m := RIGIDITY_OWNER.match(o):
             bodies.setdefault(m["link"], []).append(r)
             degenerate.add(m["link"])
     cols = []
