@@ -224,8 +224,10 @@ def write_report(results: list[Checklist], out: Path) -> Path:
     files = _report_files(results)
     check_interrupt()
     out.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    staging = None
     try:
+        with interrupts_deferred():  # the staging folder is made and named as one step
+            staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
         for name, text in files.items():
             (staging / name).write_text(text, encoding="utf-8")
         check_interrupt()
@@ -233,5 +235,7 @@ def write_report(results: list[Checklist], out: Path) -> Path:
             for name in sorted(files, key=lambda n: n == "summary.md"):
                 os.replace(staging / name, out / name)
     finally:
-        shutil.rmtree(staging, ignore_errors=True)
+        if staging is not None:
+            with interrupts_deferred():  # an interrupt does not cut the clean-up short
+                shutil.rmtree(staging, ignore_errors=True)
     return out

@@ -112,18 +112,21 @@ def write_output(target, write: Callable[[Path], object], suffix: str = ".tmp") 
     removes the temporary file.
     """
     target = Path(target)
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
-    os.close(fd)
-    tmp = Path(name)
-    _readable(tmp)
+    tmp = None
     try:
+        with interrupts_deferred():  # the temporary file is made and named as one step
+            fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix, dir=target.parent)
+            os.close(fd)
+            tmp = Path(name)
+        _readable(tmp)
         write(tmp)
         check_interrupt()
         with interrupts_deferred():
             os.replace(tmp, target)
     finally:
-        if tmp.exists():
-            tmp.unlink()
+        if tmp is not None:
+            with interrupts_deferred():  # an interrupt does not cut the clean-up short
+                tmp.unlink(missing_ok=True)
     return target
 
 

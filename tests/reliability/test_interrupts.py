@@ -229,6 +229,38 @@ def test_write_report_is_all_or_nothing(tmp_path):
     assert "demo: all claims hold" in (out / "summary.md").read_text()
 
 
+@pytest.mark.parametrize("stage", ["made", "cleaned"])
+def test_an_interrupt_while_the_staging_folder_is_made_or_removed_leaves_none(tmp_path, monkeypatch, stage):
+    """A SIGINT that lands inside ``mkdtemp`` (the folder made, its name not yet returned) or inside
+    the clean-up: the staging folder is removed all the same (CI once found a ``.report3.*`` left)."""
+    import tempfile
+
+    out = tmp_path / "out"
+    c = Checklist("demo")
+    c.equal("one", 1, 1)
+    real_mkdtemp, real_rmtree = tempfile.mkdtemp, shutil.rmtree
+
+    def mkdtemp(*args, **kwargs):
+        path = real_mkdtemp(*args, **kwargs)
+        if stage == "made":
+            assert not errors.note_interrupt()  # deferred: raised once the name is held
+        return path
+
+    def rmtree(path, *args, **kwargs):
+        if stage == "cleaned":
+            assert not errors.note_interrupt()  # deferred: the clean-up runs to its end
+        return real_rmtree(path, *args, **kwargs)
+
+    monkeypatch.setattr(tempfile, "mkdtemp", mkdtemp)
+    monkeypatch.setattr(shutil, "rmtree", rmtree)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            write_report([c], out)
+    finally:
+        errors.clear_interrupt()
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
 @pytest.mark.parametrize("content", [b"", b"PK\x03\x04" + b"\0" * 100, b"not a map at all"])
 def test_load_map_on_a_damaged_or_foreign_file_names_it(tmp_path, content):
     f = tmp_path / "bad.npz"
