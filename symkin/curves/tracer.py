@@ -132,6 +132,17 @@ class _Merged:
                      for it in sorted(self.items, key=lambda i: i["where"].s))
 
 
+def _on_start(problem: CurveProblem, rule: Closed, a: CurvePoint, b: CurvePoint, tolerances: Tolerances) -> bool:
+    """Whether the step ``a → b``, which crosses the start's normal plane near the start, passes through the start.
+
+    The crossing is located on the curve and compared with the start as configurations are
+    (``tolerances.same_configuration``): a curve that comes back only near its start — a screw
+    advanced by one lead shorter than the rule's radius — is not closed.
+    """
+    plane = EventType("start plane", lambda y, t: float(rule.t0 @ (y - rule.y0)))
+    return float(np.linalg.norm(locate_sign_change(problem, plane, a, b).y - rule.y0)) < tolerances.same_configuration
+
+
 def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events: Sequence[EventType] = (),
                 stops: Sequence[StopRule] = (), settings: Settings = Settings(),
                 parameter: Callable[[np.ndarray, float], float] | None = None, p0: float = 0.0,
@@ -150,7 +161,9 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
         Checked in this order at each step: the :class:`~symkin.curves.events.StepRule` rules first
         (in the order given, before the step's events are located), then, after the events, a
         located rule (:class:`ParameterReached`) and :class:`Closed` before the new point is
-        recorded, the others after it.
+        recorded, the others after it.  :class:`Closed` ends the trace only when its crossing
+        of the start's normal plane, located on the curve, is the start itself (to
+        ``tolerances.same_configuration``).
     parameter, p0 : callable, float
         ``parameter(y, reference)`` the curve's parameter at ``y`` continued from
         ``reference`` (default 0 everywhere); ``p0`` its value at ``y0``.
@@ -226,7 +239,8 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
                     stop = Stop(rule.reason, rule.message, locate_sign_change(problem, rule.test(pp), pcp, cp), rule,
                                 TracedPoint(cp, p))
                     break
-                rule = next((r for r in closed if r.crossed(pcp, cp)), None)
+                rule = next((r for r in closed if r.crossed(pcp, cp) and _on_start(problem, r, pcp, cp, tolerances)),
+                            None)
                 if rule is not None:
                     stop = Stop(rule.reason, rule.message, None, rule, TracedPoint(cp, p))
                     break
