@@ -126,21 +126,27 @@ class _Merged:
         self.items.append({"kind": kind, "where": ev, "p": p, "value": ev.value, "evaluations": ev.evaluations,
                            "tests": [ev.name]})
 
+    def drop_after(self, s: float) -> None:
+        """Forget the events located past arclength ``s`` (a closed curve's end: they repeat its first ones)."""
+        self.items = [it for it in self.items if it["where"].s <= s]
+
     def events(self) -> tuple[LocatedEvent, ...]:
         return tuple(LocatedEvent(it["kind"], it["where"], it["p"], it["value"], it["evaluations"],
                                   tuple(dict.fromkeys(it["tests"])))
                      for it in sorted(self.items, key=lambda i: i["where"].s))
 
 
-def _on_start(problem: CurveProblem, rule: Closed, a: CurvePoint, b: CurvePoint, tolerances: Tolerances) -> bool:
-    """Whether the step ``a → b``, which crosses the start's normal plane near the start, passes through the start.
+def _back_on_start(problem: CurveProblem, rule: Closed, a: CurvePoint, b: CurvePoint,
+                   tolerances: Tolerances) -> CurveEvent | None:
+    """The start, located on the step ``a → b`` that crosses its normal plane near it, or None.
 
     The crossing is located on the curve and compared with the start as configurations are
     (``tolerances.same_configuration``): a curve that comes back only near its start — a screw
-    advanced by one lead shorter than the rule's radius — is not closed.
+    advanced by one lead shorter than the rule's radius — is not closed (None).
     """
     plane = EventType("start plane", lambda y, t: float(rule.t0 @ (y - rule.y0)))
-    return float(np.linalg.norm(locate_sign_change(problem, plane, a, b).y - rule.y0)) < tolerances.same_configuration
+    at = locate_sign_change(problem, plane, a, b)
+    return at if float(np.linalg.norm(at.y - rule.y0)) < tolerances.same_configuration else None
 
 
 def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events: Sequence[EventType] = (),
@@ -163,7 +169,8 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
         located rule (:class:`ParameterReached`) and :class:`Closed` before the new point is
         recorded, the others after it.  :class:`Closed` ends the trace only when its crossing
         of the start's normal plane, located on the curve, is the start itself (to
-        ``tolerances.same_configuration``).
+        ``tolerances.same_configuration``); events located on that last step past the start
+        are the loop's first ones again and are dropped.
     parameter, p0 : callable, float
         ``parameter(y, reference)`` the curve's parameter at ``y`` continued from
         ``reference`` (default 0 everywhere); ``p0`` its value at ``y0``.
@@ -239,9 +246,10 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
                     stop = Stop(rule.reason, rule.message, locate_sign_change(problem, rule.test(pp), pcp, cp), rule,
                                 TracedPoint(cp, p))
                     break
-                rule = next((r for r in closed if r.crossed(pcp, cp) and _on_start(problem, r, pcp, cp, tolerances)),
-                            None)
-                if rule is not None:
+                rule = next((r for r in closed if r.crossed(pcp, cp)), None)
+                back = None if rule is None else _back_on_start(problem, rule, pcp, cp, tolerances)
+                if back is not None:
+                    merged.drop_after(back.s)  # located again past the start: the loop's first events
                     stop = Stop(rule.reason, rule.message, None, rule, TracedPoint(cp, p))
                     break
             keep(cp, vals, p)

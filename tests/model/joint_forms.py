@@ -162,3 +162,195 @@ def rsr_3(nodes: dict) -> dict:
     return {"name": "3-RSR by its joints", "dim": 3, "mobility": 3,
             "inputs": [{"joint": f"G{k}"} for k in (1, 2, 3)], "outputs": [{"twist": "platform"}],
             "platform": "platform", "platform_dof": 3, "links": links, "joints": joints}
+
+
+def delta(nodes: dict) -> dict:
+    """Delta 3-R(SS)² (tests/workspace/truth.Delta): per leg an R to ground about A_k → A_kb (the input),
+    the arm carrying a parallelogram of two bars, each an S at the elbow B_ka/B_kb and at the platform C_ka/C_kb."""
+    joints = []
+    for k in (1, 2, 3):
+        a = nodes[f"A{k}"]
+        joints.append(_r(f"A{k}", "ground", f"arm{k}", a, _sub(nodes[f"A{k}b"], a)))
+        for s in "ab":
+            joints += [{"id": f"B{k}{s}", "type": "S", "links": [f"arm{k}", f"bar{k}{s}"], "at": nodes[f"B{k}{s}"]},
+                       {"id": f"C{k}{s}", "type": "S", "links": [f"bar{k}{s}", "platform"], "at": nodes[f"C{k}{s}"]}]
+    links = {f"arm{k}": [] for k in (1, 2, 3)}
+    links.update({f"bar{k}{s}": [] for k in (1, 2, 3) for s in "ab"})
+    links["platform"] = ["P"]
+    return {"name": "Delta by its joints", "dim": 3, "mobility": 3,
+            "inputs": [{"joint": f"A{k}"} for k in (1, 2, 3)], "outputs": [{"velocity": "P"}],
+            "nodes": {"P": list(nodes["P"])}, "links": links, "joints": joints}
+
+
+# ------------------------------------------------------------------------------ 3-PRR (planar)
+#: guide k of the 3-PRR runs from vertex V_k of an equilateral triangle of circumradius 4 (V_k at
+#: 90° + 120° (k − 1)) towards V_{k+1}; distal links of length 2.2; platform joints c_k on a circle of
+#: radius 1 at 90° + 120° (k − 1) + 20° in the platform frame (reference point O)
+PRR_BASE = 4.0
+PRR_DISTAL = 2.2
+PRR_PLATFORM = 1.0
+
+
+def prr_guides() -> list[tuple[list[float], list[float]]]:
+    """``(point V_k, unit direction d_k)`` of the three guides of the 3-PRR."""
+    ang = [math.radians(90.0 + 120.0 * k) for k in range(3)]
+    v = [[PRR_BASE * math.cos(a), PRR_BASE * math.sin(a)] for a in ang]
+    return [(v[k], _unit(_sub(v[(k + 1) % 3], v[k]))) for k in range(3)]
+
+
+def prr_3_nodes(o, phi: float, mode=(1, 1, 1)) -> dict | None:
+    """Node positions of the 3-PRR with its platform at ``o``, turned by ``phi`` (closed form), or None.
+
+    ``C_k = O + R(φ) c_k``; slider ``B_k = V_k + s d_k`` with ``|B_k − C_k| = l``:
+    ``s = d·(C − V) + mode_k √((d·(C − V))² − |C − V|² + l²)``.
+    """
+    out = {"O": [float(o[0]), float(o[1])]}
+    c, s_ = math.cos(phi), math.sin(phi)
+    for k, (v, d) in enumerate(prr_guides()):
+        a = math.radians(90.0 + 120.0 * k + 20.0)
+        ck = [PRR_PLATFORM * math.cos(a), PRR_PLATFORM * math.sin(a)]
+        C = [o[0] + c * ck[0] - s_ * ck[1], o[1] + s_ * ck[0] + c * ck[1]]
+        w = _sub(C, v)
+        along = w[0] * d[0] + w[1] * d[1]
+        disc = along ** 2 - (w[0] ** 2 + w[1] ** 2) + PRR_DISTAL ** 2
+        if disc < 0:
+            return None
+        t = along + mode[k] * math.sqrt(disc)
+        out[f"B{k + 1}"] = [v[0] + t * d[0], v[1] + t * d[1]]
+        out[f"C{k + 1}"] = C
+    return out
+
+
+def prr_3_node(nodes: dict) -> dict:
+    """3-PRR in node form: slider B_k on the fixed guide k (input ``slide:s_k``), distal bar B_k–C_k,
+    platform body O-C1-C2-C3 (O first: the twist's point)."""
+    return {"name": "3-PRR planar parallel manipulator", "dim": 2, "mobility": 3,
+            "inputs": [{"slide": f"s{k}"} for k in (1, 2, 3)], "outputs": [{"twist": "platform"}],
+            "platform": "platform", "platform_dof": 3,
+            "nodes": {n: list(p) for n, p in nodes.items()},
+            "links": {**{f"distal{k}": [f"B{k}", f"C{k}"] for k in (1, 2, 3)},
+                      "platform": ["O", "C1", "C2", "C3"]},
+            "sliders": [{"id": f"s{k}", "node": f"B{k}", "point": v, "direction": d}
+                        for k, (v, d) in enumerate(prr_guides(), 1)]}
+
+
+def prr_3(nodes: dict) -> dict:
+    """3-PRR by its joints: per leg P (ground-block along guide k, the input), R (block-distal at B_k),
+    R (distal-platform at C_k)."""
+    joints = []
+    for k, (_, d) in enumerate(prr_guides(), 1):
+        joints += [{"id": f"P{k}", "type": "P", "links": ["ground", f"block{k}"], "at": nodes[f"B{k}"], "axis": d},
+                   _r(f"B{k}", f"block{k}", f"distal{k}", nodes[f"B{k}"]),
+                   _r(f"C{k}", f"distal{k}", "platform", nodes[f"C{k}"])]
+    links = {name: [] for k in (1, 2, 3) for name in (f"block{k}", f"distal{k}")}
+    links["platform"] = ["O"]
+    return {"name": "3-PRR by its joints", "dim": 2, "mobility": 3,
+            "inputs": [{"joint": f"P{k}"} for k in (1, 2, 3)], "outputs": [{"twist": "platform"}],
+            "platform": "platform", "platform_dof": 3, "nodes": {"O": nodes["O"]}, "links": links,
+            "joints": joints}
+
+
+# ------------------------------------------------------------------------------ 3-RPS (spatial)
+#: the 3-RPS of Lee & Shah (1988): base joints A_k on a circle of radius 2 at 90° + 120° (k − 1), each R
+#: axis u_k tangent to that circle (in the base plane), so leg k moves in the vertical plane through A_k
+#: and the centre; platform joints c_k on a circle of radius 1 at the same angles in the platform frame
+RPS_BASE = 2.0
+RPS_PLATFORM = 1.0
+
+
+def _rot(axis: int, angle: float):
+    c, s = math.cos(angle), math.sin(angle)
+    i, j = [(1, 2), (2, 0), (0, 1)][axis]
+    m = [[1.0 if r == q else 0.0 for q in range(3)] for r in range(3)]
+    m[i][i], m[i][j], m[j][i], m[j][j] = c, -s, s, c
+    return m
+
+
+def _mul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+
+
+def _apply(m, v):
+    return [sum(m[i][k] * v[k] for k in range(3)) for i in range(3)]
+
+
+def rps_frames():
+    """``(A_k, u_k, c_k)``: base joints, their R axes (tangent), platform joints in the platform frame."""
+    out = []
+    for k in range(3):
+        a = math.radians(90.0 + 120.0 * k)
+        radial = [math.cos(a), math.sin(a), 0.0]
+        out.append(([RPS_BASE * radial[0], RPS_BASE * radial[1], 0.0], [-radial[1], radial[0], 0.0],
+                    [RPS_PLATFORM * radial[0], RPS_PLATFORM * radial[1], 0.0]))
+    return out
+
+
+def rps_3_nodes(height: float, tilt_x: float, tilt_y: float) -> dict:
+    """Node positions of the 3-RPS at ``height`` with the platform tilted by Rx(tilt_x) Ry(tilt_y).
+
+    Leg k keeps C_k in the plane through A_k normal to u_k: ``(O + R c_k)·u_k = 0`` (``A_k·u_k = 0``).
+    As ``u_1 + u_2 + u_3 = 0`` the three equations in ``O_x, O_y`` are compatible only when
+    ``Σ (R c_k)·u_k = 0``, which fixes the turn γ of ``R = Rz(γ) Rx Ry`` (the parasitic motion, solved
+    here by bisection near 0); then two of them give ``O_x, O_y`` (a 2×2 solve).  ``D_k`` (the cylinder's
+    point on the leg) is the midpoint of ``A_k C_k``, ``A_k.u = A_k + u_k`` a second point of its R axis.
+    """
+    frames = rps_frames()
+    tilt = _mul(_rot(0, tilt_x), _rot(1, tilt_y))
+
+    def gap(g):
+        r = _mul(_rot(2, g), tilt)
+        return sum(sum(x * y for x, y in zip(_apply(r, c), u)) for _, u, c in frames)
+
+    lo, hi = -0.5, 0.5
+    assert gap(lo) * gap(hi) < 0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if gap(lo) * gap(mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    r = _mul(_rot(2, 0.5 * (lo + hi)), tilt)
+    rc = [_apply(r, c) for _, _, c in frames]
+    (u1, u2) = (frames[0][1], frames[1][1])
+    b1 = -sum(x * y for x, y in zip(rc[0], u1))
+    b2 = -sum(x * y for x, y in zip(rc[1], u2))
+    det = u1[0] * u2[1] - u1[1] * u2[0]
+    o = [(b1 * u2[1] - b2 * u1[1]) / det, (u1[0] * b2 - u2[0] * b1) / det, height]
+    out = {"O": o}
+    for k, ((a, u, _), c) in enumerate(zip(frames, rc), 1):
+        ck = [o[i] + c[i] for i in range(3)]
+        out[f"A{k}"], out[f"A{k}u"], out[f"C{k}"] = a, [a[i] + u[i] for i in range(3)], ck
+        out[f"D{k}"] = [0.5 * (a[i] + ck[i]) for i in range(3)]
+    return out
+
+
+def rps_3_node(nodes: dict) -> dict:
+    """3-RPS in node form: cylinder body A_k-A_k.u-D_k turning about its fixed axis A_k → A_k.u (R), the
+    platform joint C_k sliding on the cylinder's line A_k-D_k (P, input ``slide:s_k``; a single shared
+    point: S), platform body O-C1-C2-C3."""
+    return {"name": "3-RPS parallel manipulator", "dim": 3, "mobility": 3,
+            "fixed": [f"A{k}{s}" for k in (1, 2, 3) for s in ("", "u")],
+            "inputs": [{"slide": f"s{k}"} for k in (1, 2, 3)], "outputs": [{"twist": "platform"}],
+            "platform": "platform", "platform_dof": 3,
+            "nodes": {n: list(p) for n, p in nodes.items()},
+            "links": {**{f"cyl{k}": [f"A{k}", f"A{k}u", f"D{k}"] for k in (1, 2, 3)},
+                      "platform": ["O", "C1", "C2", "C3"]},
+            "sliders": [{"id": f"s{k}", "node": f"C{k}", "line": [f"A{k}", f"D{k}"], "link": f"cyl{k}"}
+                        for k in (1, 2, 3)]}
+
+
+def rps_3(nodes: dict) -> dict:
+    """3-RPS by its joints: per leg R (ground-cylinder about A_k → A_k.u), P (cylinder-rod along the leg,
+    the input), S (rod-platform at C_k)."""
+    joints = []
+    for k in (1, 2, 3):
+        a, c = nodes[f"A{k}"], nodes[f"C{k}"]
+        joints += [_r(f"A{k}", "ground", f"cyl{k}", a, _sub(nodes[f"A{k}u"], a)),
+                   {"id": f"P{k}", "type": "P", "links": [f"cyl{k}", f"rod{k}"], "at": a, "axis": _sub(c, a)},
+                   {"id": f"S{k}", "type": "S", "links": [f"rod{k}", "platform"], "at": c}]
+    links = {name: [] for k in (1, 2, 3) for name in (f"cyl{k}", f"rod{k}")}
+    links["platform"] = ["O"]
+    return {"name": "3-RPS by its joints", "dim": 3, "mobility": 3,
+            "inputs": [{"joint": f"P{k}"} for k in (1, 2, 3)], "outputs": [{"twist": "platform"}],
+            "platform": "platform", "platform_dof": 3, "nodes": {"O": nodes["O"]}, "links": links,
+            "joints": joints}
