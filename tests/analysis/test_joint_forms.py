@@ -143,3 +143,116 @@ def test_gough_joint_form_turned_and_moved():
                 j[key] = turn(j[key])
     data["nodes"] = {n: place(p) for n, p in data["nodes"].items()}
     _same(gough.moved(rotation=rot, translation=shift), symkin.Mechanism.from_dict(data))
+
+
+# ----------------------------------------------------------------------------------- 3-PRR
+#: a regular pose of the 3-PRR (platform reference point O, turn φ) and its working mode
+PRR_POSE = ((0.3, -0.2), 0.2)
+
+
+def _prr(nodes: dict) -> tuple[symkin.Mechanism, symkin.Mechanism]:
+    return symkin.Mechanism.from_dict(jf.prr_3_node(nodes)), symkin.Mechanism.from_dict(jf.prr_3(nodes))
+
+
+def _line(p, q) -> np.ndarray:
+    """Homogeneous coefficients of the planar line through ``p`` and ``q``."""
+    return np.cross(np.r_[p, 1.0], np.r_[q, 1.0])
+
+
+def _concurrency(nodes: dict) -> float:
+    """det of the three distal lines B_k C_k (homogeneous, each normalised): 0 where they meet in a point."""
+    rows = [_line(nodes[f"B{k}"], nodes[f"C{k}"]) for k in (1, 2, 3)]
+    return float(np.linalg.det([r / np.linalg.norm(r[:2]) for r in rows]))
+
+
+def _perpendicularity(nodes: dict) -> float:
+    """min over the legs of |cos| between distal link and guide: 0 where a distal link is normal to its guide."""
+    out = []
+    for k, (_, d) in enumerate(jf.prr_guides(), 1):
+        bar = np.subtract(nodes[f"C{k}"], nodes[f"B{k}"])
+        out.append(abs(bar @ d) / np.linalg.norm(bar))
+    return min(out)
+
+
+def _on_guide(k: int, p, q) -> list[float]:
+    """The point where the line through ``p`` and ``q`` meets guide ``k``."""
+    v, d = (np.asarray(x, float) for x in jf.prr_guides()[k - 1])
+    x = np.cross(_line(p, q), np.cross(np.r_[v, 1.0], np.r_[v + d, 1.0]))
+    return list(x[:2] / x[2])
+
+
+def test_prr_regular_pose_dof_by_grubler_and_joint_form():
+    """8 links (ground, 3 blocks, 3 distal links, platform), 9 one-DOF pairs: 3 (8 − 1 − 9) + 9 = 3."""
+    nodes = jf.prr_3_nodes(*PRR_POSE)
+    node, joint = _prr(nodes)
+    a = symkin.analyze(node)
+    assert (a.dof, a.types, a.input_rank, a.output_rank, a.platform_dof) == (3, (), 3, 3, 3)
+    assert abs(_concurrency(nodes)) > 1e-2 and _perpendicularity(nodes) > 1e-2
+    _same(node, joint)
+
+
+def test_prr_concurrent_distal_lines_are_type_2_in_both_forms():
+    """The platform of the model's pose; each slider moved to where the line C_k Q meets its guide, Q a
+    point inside: the three distal lines meet at Q (elementary geometry), a DKP-input configuration."""
+    nodes = jf.prr_3_nodes(*PRR_POSE)
+    q = np.array([0.2, 0.1])
+    for k in (1, 2, 3):
+        nodes[f"B{k}"] = _on_guide(k, q, nodes[f"C{k}"])
+    assert abs(_concurrency(nodes)) < 1e-12 and _perpendicularity(nodes) > 1e-2
+    node, joint = _prr(nodes)
+    a = symkin.analyze(node)
+    assert a.types == ("DKP-input",) and (a.dof, a.input_rank, a.output_rank) == (3, 2, 3)
+    _same(node, joint)
+
+
+def test_prr_distal_link_normal_to_its_guide_is_type_1_in_both_forms():
+    """Slider 1 moved to the foot of C_1 on its guide: distal link 1 normal to guide 1, a DKP-output
+    configuration (the slide moves with the platform held)."""
+    nodes = jf.prr_3_nodes(*PRR_POSE)
+    v, d = (np.asarray(x, float) for x in jf.prr_guides()[0])
+    nodes["B1"] = list(v + ((np.asarray(nodes["C1"]) - v) @ d) * d)
+    assert _perpendicularity(nodes) < 1e-12 and abs(_concurrency(nodes)) > 1e-2
+    node, joint = _prr(nodes)
+    a = symkin.analyze(node)
+    assert a.types == ("DKP-output",) and (a.dof, a.input_rank, a.output_rank) == (3, 3, 2)
+    _same(node, joint, extra_lim=None)
+
+
+@pytest.fixture(scope="module")
+def prr_paths():
+    node, joint = _prr(jf.prr_3_nodes(*PRR_POSE))
+    return symkin.trace(node, "slide:s1", -3.0, 3.0), symkin.trace(joint, "joint:P1", -3.0, 3.0)
+
+
+def test_prr_path_events_in_both_forms(prr_paths):
+    """Slide 1 driven, slides 2 and 3 held: the loop closes with the same events; each DKP-input event
+    has concurrent distal lines, each DKP-output event a distal link normal to its guide."""
+    pn, pj = prr_paths
+    en, ej = pn.singular_events(), pj.singular_events()
+    assert [e.kind for e in en] == [e.kind for e in ej]
+    assert {"DKP-input", "DKP-output"} <= {str(e.kind) for e in en}
+    assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
+    assert pn.stop_reason == pj.stop_reason
+    names = pn.node_names
+    for e in en:
+        nodes = dict(zip(names, e.coordinates.reshape(-1, 2)))
+        if e.kind == "DKP-input":
+            assert abs(_concurrency(nodes)) < 1e-7
+        else:
+            assert _perpendicularity(nodes) < 1e-7
+
+
+@pytest.mark.parametrize("name, drive", [("slider_crank", "joint:R1"), ("five_bar", "joint:A1"),
+                                         ("rrr_3", "joint:A1")])
+def test_path_events_of_planar_joint_forms(name, drive):
+    node = catalogue.get(name)
+    nodes = node.coordinates()
+    build = {"slider_crank": lambda: jf.slider_crank(nodes, (0.0, 0.25), (1.0, 0.0)),
+             "five_bar": lambda: jf.five_bar(nodes), "rrr_3": lambda: jf.rrr_3(nodes)}[name]
+    joint = symkin.Mechanism.from_dict(build())
+    pn = symkin.trace(node, None, 0.0, 360.0, unit="deg")
+    pj = symkin.trace(joint, drive, 0.0, 360.0, unit="deg")
+    en, ej = pn.singular_events(), pj.singular_events()
+    assert en and [e.kind for e in en] == [e.kind for e in ej]
+    assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
+    assert pn.stop_reason == pj.stop_reason
