@@ -1,0 +1,52 @@
+"""Spatial mechanisms written by their joints give the path events of their node forms (issue 16).
+
+The node and joint forms of ``tests/model/joint_forms.py`` driven by the same input over the same
+range: the same stop, the same events in the same order, of the same kinds, at the same input
+values (to 1e-6).  The curves use the generated corrector in-process (``in_process_corrector``):
+a joint form has more nodes than its node form, and compiling its corrector is slow; the numbers
+are the compiled ones (tests/numeric/test_artefact_cache.py).  The planar mechanisms' path events
+are in tests/analysis/test_joint_forms.py.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import symkin
+from tests.analysis.test_joint_forms_spatial import _wrench_det
+from tests.model import joint_forms as jf
+from tests.workspace import truth as T
+
+
+def _same_events(pn, pj) -> list:
+    en, ej = pn.singular_events(), pj.singular_events()
+    assert [e.kind for e in en] == [e.kind for e in ej]
+    assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
+    assert pn.stop_reason == pj.stop_reason
+    return en
+
+
+def test_rps_path_events(in_process_corrector):
+    """Slide 1 driven from the regular pose (slides 2 and 3 held) round its loop: type-2 events where the
+    locked legs' six wrench lines are dependent (the Plücker determinant of test_joint_forms_spatial)."""
+    nodes = jf.rps_3_nodes(2.0, 0.2, -0.1)
+    node, joint = (symkin.Mechanism.from_dict(f(nodes)) for f in (jf.rps_3_node, jf.rps_3))
+    pn = symkin.trace(node, "slide:s1", 0.0, -2.5)
+    pj = symkin.trace(joint, "joint:P1", 0.0, -2.5)
+    _same_events(pn, pj)
+    for path, at in ((pn, "C"), (pj, "S")):      # the platform joints: nodes C_k, and S_k by their joints
+        type2 = [e for e in path.singular_events() if e.kind == "DKP-input"]
+        assert len(type2) >= 4
+        for e in type2:
+            xyz = dict(zip(path.node_names, e.coordinates.reshape(-1, 3)))
+            assert abs(_wrench_det({f"C{k}": xyz[f"{at}{k}"] for k in (1, 2, 3)})) < 1e-6
+
+
+@pytest.mark.slow
+def test_delta_path_events(in_process_corrector):
+    """Arm 1 driven down from a regular pose (arms 2 and 3 held), 45°: the same events in both forms."""
+    node = symkin.Mechanism.from_dict(T.Delta().model(np.array([0.1, -0.2, -2.2]), (1, 1, -1)))
+    joint = symkin.Mechanism.from_dict(jf.delta(node.coordinates()))
+    pn = symkin.trace(node, "rotation:arm1[A1-A1b]", 0.0, -45.0, unit="deg")
+    pj = symkin.trace(joint, "joint:A1", 0.0, -45.0, unit="deg")
+    assert _same_events(pn, pj)
