@@ -256,3 +256,26 @@ def test_path_events_of_planar_joint_forms(name, drive):
     assert en and [e.kind for e in en] == [e.kind for e in ej]
     assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
     assert pn.stop_reason == pj.stop_reason
+
+
+def test_readme_spatial_joint_example_is_the_screw_jack():
+    """The README's spatial ``[[joints]]`` example is the screw jack file (less its description) and
+    analyses as it says: L = 1, the nut's slide 0.004 × the screw's rotation (v = p·ω)."""
+    import re
+    import tomllib
+
+    blocks = [b for b in re.findall(r"```toml\n(.*?)```", (jf.ROOT / "README.md").read_text(), re.S)
+              if 'name = "screw jack"' in b]
+    assert len(blocks) == 1
+    data = tomllib.loads(blocks[0])
+    jack = tomllib.loads((jf.ROOT / "tests" / "constraints" / "models" / "screw_jack.toml").read_text())
+    jack.pop("description")
+    assert data == jack
+    a = symkin.analyze(symkin.Mechanism.from_dict(data))
+    assert a.dof == 1
+    from symkin.numeric.geometric_matrix import parameters_matrix
+    m = symkin.Mechanism.from_dict(data)
+    rin, _ = parameters_matrix(m, m.inputs)
+    rout, _ = parameters_matrix(m, m.outputs)
+    v = symkin.motion_space(m).V
+    assert float((rout @ v).ravel()[0] / (rin @ v).ravel()[0]) == pytest.approx(0.004, rel=1e-12)
