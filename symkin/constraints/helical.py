@@ -28,9 +28,9 @@ the node positions (which know ``θ`` only modulo 2π) close on one thread of th
 every turn of it, and the gradient on the helix is the row.  It is smooth except half a
 lead away from the helix (``Δ = π``), which a path corrector started on the helix does
 not reach.  ``p = 0``: the residual is ``s − s₀`` (a revolute pair).  A path of more than
-a full turn: the tracer ends a path as closed when it comes back within two steps of its
-start, and one lead ``2π|p|`` may be shorter than that, so a path of a small-pitch screw
-stops after one turn (:mod:`symkin.paths.trace`; the configurations up to there are right).  The polynomial
+a full turn goes on turn after turn: the tracer ends a path as closed only where it comes
+back to its start itself, not one lead ``2π|p|`` from it (:mod:`symkin.curves.tracer`;
+tests/paths/test_helical_path.py).  The polynomial
 backends (``modes``, ``singularities``, the exact and the locus eliminations) refuse a
 model with an H: :func:`symkin.constraints.polynomial_constraints`.
 """
