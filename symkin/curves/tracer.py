@@ -126,9 +126,12 @@ class _Merged:
         self.items.append({"kind": kind, "where": ev, "p": p, "value": ev.value, "evaluations": ev.evaluations,
                            "tests": [ev.name]})
 
-    def drop_after(self, s: float) -> None:
-        """Forget the events located past arclength ``s`` (a closed curve's end: they repeat its first ones)."""
-        self.items = [it for it in self.items if it["where"].s <= s]
+    def drop_repeats_after(self, s: float) -> None:
+        """Forget the events past arclength ``s`` that repeat an event before it (a closed curve's end
+        meets its first events again); an event at the start itself, met only on the way back, stays."""
+        before = [it for it in self.items if it["where"].s <= s]
+        self.items = before + [it for it in self.items if it["where"].s > s and not any(
+            np.linalg.norm(b["where"].y - it["where"].y) < self.distance for b in before)]
 
     def events(self) -> tuple[LocatedEvent, ...]:
         return tuple(LocatedEvent(it["kind"], it["where"], it["p"], it["value"], it["evaluations"],
@@ -170,7 +173,7 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
         recorded, the others after it.  :class:`Closed` ends the trace only when its crossing
         of the start's normal plane, located on the curve, is the start itself (to
         ``tolerances.same_configuration``); events located on that last step past the start
-        are the loop's first ones again and are dropped.
+        that repeat the loop's first ones (the same configuration) are dropped.
     parameter, p0 : callable, float
         ``parameter(y, reference)`` the curve's parameter at ``y`` continued from
         ``reference`` (default 0 everywhere); ``p0`` its value at ``y0``.
@@ -249,7 +252,7 @@ def trace_curve(problem: CurveProblem, y0: np.ndarray, t0: np.ndarray, *, events
                 rule = next((r for r in closed if r.crossed(pcp, cp)), None)
                 back = None if rule is None else _back_on_start(problem, rule, pcp, cp, tolerances)
                 if back is not None:
-                    merged.drop_after(back.s)  # located again past the start: the loop's first events
+                    merged.drop_repeats_after(back.s)  # the loop's first events, located again past the start
                     stop = Stop(rule.reason, rule.message, None, rule, TracedPoint(cp, p))
                     break
             keep(cp, vals, p)

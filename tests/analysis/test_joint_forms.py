@@ -232,7 +232,10 @@ def test_prr_path_events_in_both_forms(prr_paths):
     assert [e.kind for e in en] == [e.kind for e in ej]
     assert {"DKP-input", "DKP-output"} <= {str(e.kind) for e in en}
     assert [e.input for e in en] == pytest.approx([e.input for e in ej], abs=1e-6)
-    assert pn.stop_reason == pj.stop_reason
+    assert pn.stop_reason == pj.stop_reason == "unreachable"   # a closed loop: slide 1 turns back
+    for path in (pn, pj):   # no event twice: the loop's end does not meet its first events again
+        ys = [e.coordinates for e in path.singular_events()]
+        assert all(np.linalg.norm(a - b) > 1e-3 for i, a in enumerate(ys) for b in ys[:i])
     names = pn.node_names
     for e in en:
         nodes = dict(zip(names, e.coordinates.reshape(-1, 2)))
