@@ -50,3 +50,28 @@ def test_delta_path_events(in_process_corrector):
     pn = symkin.trace(node, "rotation:arm1[A1-A1b]", 0.0, -45.0, unit="deg")
     pj = symkin.trace(joint, "joint:A1", 0.0, -45.0, unit="deg")
     assert _same_events(pn, pj)
+
+
+def test_bennett_path_has_no_confirmed_event_in_either_form(in_process_corrector):
+    """The Bennett loop over a full turn of its input: no singular configuration in either form.
+
+    Its located event candidates are not the same in the two forms (the over-constrained loop's
+    IM and DKP tests dip below their thresholds at different inputs: 9 candidates in the node form,
+    4 in the joint form), and every one of them is classified as no singularity by
+    :func:`symkin.analyze` (the node form's also written by their joints): the paths agree on what
+    is singular (nothing)."""
+    from symkin.model import catalogue
+
+    node = catalogue.get("bennett")
+    joint = symkin.Mechanism.from_dict(jf.bennett(node.coordinates()))
+    pn = symkin.trace(node, None, 0.0, 360.0, unit="deg")
+    pj = symkin.trace(joint, "joint:A", 0.0, 360.0, unit="deg")
+    assert pn.stop_reason == pj.stop_reason == "reached"
+    for path, mech in ((pn, node), (pj, joint)):
+        for e in path.singular_events():
+            assert e.analysis is not None and e.analysis.types == ()
+            at = mech.with_coordinates(e.coordinates.reshape(-1, 3))
+            assert symkin.analyze(at).types == ()
+    for e in pn.singular_events():              # the node form's candidates written by their joints
+        at = node.with_coordinates(e.coordinates.reshape(-1, 3))
+        assert symkin.analyze(symkin.Mechanism.from_dict(jf.bennett(at.coordinates()))).types == ()
