@@ -2,7 +2,10 @@
 
 Same DOF, types, ranks, platform DOF and relations (the coefficients, up to the joint-rate
 labels) at the model configuration and at a singular one; the same path events over a
-segment; the 6-UPS Gough–Stewart by U, P and S joints as the SPS node form.
+segment; the 6-UPS Gough–Stewart by U, P and S joints as the SPS node form; the 3-PRR at a
+regular pose and at its type-2 and type-1 configurations (built by elementary geometry) and
+along a path.  Spatial: test_joint_forms_spatial.py; spatial path events:
+tests/paths/test_joint_form_paths.py; maps: tests/workspace/test_map_joint_forms.py.
 """
 from __future__ import annotations
 

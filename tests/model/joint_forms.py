@@ -1,9 +1,12 @@
 """Joint forms (``[[joints]]``) of node-form mechanisms, built from the same coordinates.
 
-Shared by :mod:`tests.model.test_joints` and :mod:`tests.analysis.test_joint_forms`: each
-function takes the node coordinates of the node form (a catalogue entry or a file of
-``tests/workspace/models``) and returns the model dictionary of the same mechanism written
-by its joints.
+Shared by :mod:`tests.model.test_joints`, :mod:`tests.analysis.test_joint_forms` (and
+``test_joint_forms_spatial``), ``tests/paths/test_joint_form_paths.py`` and
+``tests/workspace/test_map_joint_forms.py``: each function takes the node coordinates of the
+node form (a catalogue entry, a file of ``tests/workspace/models``, ``truth.Delta``) and
+returns the model dictionary of the same mechanism written by its joints.  The 3-PRR and the
+3-RPS have no node form elsewhere: theirs are written here from their geometry
+(:func:`prr_3_node`, :func:`rps_3_node`, configurations by closed form).
 """
 from __future__ import annotations
 

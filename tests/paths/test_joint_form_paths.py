@@ -75,3 +75,29 @@ def test_bennett_path_has_no_confirmed_event_in_either_form(in_process_corrector
     for e in pn.singular_events():              # the node form's candidates written by their joints
         at = node.with_coordinates(e.coordinates.reshape(-1, 3))
         assert symkin.analyze(symkin.Mechanism.from_dict(jf.bennett(at.coordinates()))).types == ()
+
+
+def _leg_lines_det(xyz: dict, base: str, top: str) -> float:
+    """det of the six unit Plücker lines of the legs (base_k → top_k): zero at a type-2 configuration."""
+    rows = []
+    for k in range(1, 7):
+        a, c = np.asarray(xyz[f"{base}{k}"]), np.asarray(xyz[f"{top}{k}"])
+        d = (c - a) / np.linalg.norm(c - a)
+        rows.append(np.r_[d, np.cross(c, d)])
+    return float(np.linalg.det(np.array(rows)))
+
+
+@pytest.mark.slow
+def test_gough_stewart_path_events(in_process_corrector):
+    """Leg 1 driven (the other five held) round its loop: four type-2 events in both forms, each where
+    the six leg lines are dependent (legs A_k → C_k of the node form, U_k → S_k of the joint form)."""
+    node = symkin.read_model(jf.MODELS / "gough_stewart.toml")
+    joint = symkin.Mechanism.from_dict(jf.ups_6(node.coordinates()))
+    pn = symkin.trace(node, "slide:s1", 0.0, 4.0)
+    pj = symkin.trace(joint, "joint:P1", 0.0, 4.0)
+    en = _same_events(pn, pj)
+    assert [str(e.kind) for e in en] == ["DKP-input"] * 4
+    for path, base, top in ((pn, "A", "C"), (pj, "U", "S")):
+        for e in path.singular_events():
+            xyz = dict(zip(path.node_names, e.coordinates.reshape(-1, 3)))
+            assert abs(_leg_lines_det(xyz, base, top)) < 1e-6
