@@ -15,6 +15,11 @@ import pytest
 import symkin
 from symkin.model import catalogue
 from tests.model import joint_forms as jf
+from tests.paths.conftest import in_process_corrector  # noqa: F401  (a fixture: paths without compiling)
+
+#: the path tests: the generated corrector in-process, as in tests/paths (compiling it for each joint
+#: form would cost minutes on a busy machine; the numbers are the compiled ones)
+paths = pytest.mark.usefixtures("in_process_corrector")
 
 
 def _summary(a):
@@ -74,6 +79,7 @@ def test_slider_crank_at_its_dead_centre():
           extra_lim="block")
 
 
+@paths
 def test_rssr_path_events_and_a_singular_configuration():
     node = catalogue.get("rssr")
     joint = symkin.Mechanism.from_dict(jf.rssr(node.coordinates()))
@@ -87,6 +93,7 @@ def test_rssr_path_events_and_a_singular_configuration():
     _same(at, symkin.Mechanism.from_dict(jf.rssr(at.coordinates())))
 
 
+@paths
 def test_rpr_at_a_singular_configuration_and_along_a_path():
     node = _rpr_node()
     joint = symkin.Mechanism.from_dict(jf.rpr_3(node.coordinates()))
@@ -103,6 +110,7 @@ def test_rpr_at_a_singular_configuration_and_along_a_path():
     _same(at, symkin.Mechanism.from_dict(jf.rpr_3(at.coordinates())))
 
 
+@paths
 def test_fourbar_path_events():
     node = catalogue.get("fourbar_appendix")
     joint = symkin.Mechanism.from_dict(jf.fourbar(node.coordinates()))
@@ -221,16 +229,12 @@ def test_prr_distal_link_normal_to_its_guide_is_type_1_in_both_forms():
     _same(node, joint, extra_lim=None)
 
 
-@pytest.fixture(scope="module")
-def prr_paths():
-    node, joint = _prr(jf.prr_3_nodes(*PRR_POSE))
-    return symkin.trace(node, "slide:s1", -3.0, 3.0), symkin.trace(joint, "joint:P1", -3.0, 3.0)
-
-
-def test_prr_path_events_in_both_forms(prr_paths):
+@paths
+def test_prr_path_events_in_both_forms():
     """Slide 1 driven, slides 2 and 3 held: the loop closes with the same events; each DKP-input event
     has concurrent distal lines, each DKP-output event a distal link normal to its guide."""
-    pn, pj = prr_paths
+    node, joint = _prr(jf.prr_3_nodes(*PRR_POSE))
+    pn, pj = symkin.trace(node, "slide:s1", -3.0, 3.0), symkin.trace(joint, "joint:P1", -3.0, 3.0)
     en, ej = pn.singular_events(), pj.singular_events()
     assert [e.kind for e in en] == [e.kind for e in ej]
     assert {"DKP-input", "DKP-output"} <= {str(e.kind) for e in en}
@@ -248,6 +252,7 @@ def test_prr_path_events_in_both_forms(prr_paths):
             assert _perpendicularity(nodes) < 1e-7
 
 
+@paths
 @pytest.mark.parametrize("name, drive", [("slider_crank", "joint:R1"), ("five_bar", "joint:A1"),
                                          ("rrr_3", "joint:A1")])
 def test_path_events_of_planar_joint_forms(name, drive):

@@ -20,6 +20,8 @@ import symkin
 from symkin.curves.stepper import Settings
 from symkin.model import catalogue
 
+pytestmark = pytest.mark.usefixtures("in_process_corrector")
+
 JACK = Path(__file__).resolve().parents[1] / "constraints" / "models" / "screw_jack.toml"
 PITCH = 0.001
 TURNS = 4
