@@ -145,10 +145,15 @@ def _back_on_start(problem: CurveProblem, rule: Closed, a: CurvePoint, b: CurveP
 
     The crossing is located on the curve and compared with the start as configurations are
     (``tolerances.same_configuration``): a curve that comes back only near its start — a screw
-    advanced by one lead shorter than the rule's radius — is not closed (None).
+    advanced by one lead shorter than the rule's radius — is not closed (None).  Where the
+    crossing cannot be located (the corrector fails inside the step), the rule's own test
+    decides, as it did alone: closed at ``b``.
     """
     plane = EventType("start plane", lambda y, t: float(rule.t0 @ (y - rule.y0)))
-    at = locate_sign_change(problem, plane, a, b)
+    try:
+        at = locate_sign_change(problem, plane, a, b)
+    except (SteppingError, NotConvergedError):
+        return CurveEvent(plane.name, "sign change", b.y, b.t, b.s, plane.value(b.y, b.t), 0)
     return at if float(np.linalg.norm(at.y - rule.y0)) < tolerances.same_configuration else None
 
 
