@@ -81,6 +81,14 @@ class Constraint:
     def equations(self, alg, X, X0) -> list[Equation]:
         raise NotImplementedError
 
+    def rate_rows(self, alg, X, X0) -> list[Row]:
+        """The rows of the constraint's own rate (a slider's slide along its line, model units
+        per unit time), the parameter rows of a ``slide`` input or output; a kind without a
+        rate raises :class:`~symkin.errors.SymkinError` naming it."""
+        from symkin.errors import SymkinError
+
+        raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide rate (a 'slide' rate needs a line)")
+
 
 def normals(alg, e, e0, length) -> list[tuple[tuple, object]]:
     """The normals of the direction ``e`` (of norm ``length``) as ``(vector, norm)`` pairs.

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from symkin.constraints import Body, constraints_of
+from symkin.constraints import Body, constraints_of, slider_constraint
 from symkin.constraints.algebra import Casadi
 from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
@@ -198,6 +198,15 @@ class _Builder:
         d = self.dim
         return self.x[d * i: d * i + d]
 
+    def nodes(self) -> list[tuple]:
+        """Every node's position as a tuple of SX scalars (the algebra's vectors)."""
+        d = self.dim
+        return [tuple(self.x[d * i + a] for a in range(d)) for i in range(len(self.mech.nodes))]
+
+    def nodes0(self) -> list[tuple]:
+        """Every node's position at the model's configuration (floats)."""
+        return [tuple(map(float, c)) for c in self.xyz0]
+
     def param(self, label: str, value: float) -> ca.SX:
         s = ca.SX.sym(f"p{len(self.p_syms)}")
         self.p_syms.append(s)
@@ -217,9 +226,7 @@ class _Builder:
     def constraints(self):
         rows, owners, closure = [], [], []
         alg = Casadi(self.param)
-        dim = self.dim
-        X = [tuple(self.x[dim * i + a] for a in range(dim)) for i in range(len(self.mech.nodes))]
-        X0 = [tuple(map(float, c)) for c in self.xyz0]
+        X, X0 = self.nodes(), self.nodes0()
         for con in constraints_of(self.mech):
             if isinstance(con, Body):
                 r, c = self.body_extra(con.link, con.names, list(con.idx))
@@ -384,18 +391,10 @@ class _Builder:
                 e[c] = 1.0
                 out.append(self.row({i: ca.SX(ca.DM(e))}))
             return ca.vertcat(*out)
-        if kind == "slide":
-            s = self.mech.slider(param.target[0])
-            p = self.index[s.node]
-            if s.kind == "moving_line":
-                a, c = self.index[s.line[0]], self.index[s.line[1]]
-                e = self.node(c) - self.node(a)
-                le = _norm(e)
-                u = e / le
-                t = _dot(self.node(p) - self.node(a), u) / le
-                return self.row({p: u, a: -(1 - t) * u, c: -t * u})
-            u = np.array(s.direction, dtype=float)
-            return self.row({p: ca.SX(ca.DM(u / np.linalg.norm(u)))})
+        if kind == "slide":  # the slider's rate row, as its definition states it (symkin.constraints)
+            con = slider_constraint(self.mech, param.target[0])
+            return ca.vertcat(*[self.row({k: ca.vertcat(*[v / r.scale for v in vec]) for k, vec in r.blocks().items()})
+                                for r in con.rate_rows(Casadi(), self.nodes(), self.nodes0())])
         raise ValueError(f"unknown parameter kind {kind!r}")
 
     def twist_rows(self, link: str) -> ca.SX:

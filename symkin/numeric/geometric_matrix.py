@@ -35,7 +35,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from symkin.constraints import slider_constraints
+from symkin.constraints import slider_constraint, slider_constraints
 from symkin.constraints.algebra import FLOATS
 from symkin.errors import ModelError, Problem
 from symkin.model.joints import GROUND
@@ -289,19 +289,23 @@ def _slider_rows(mech: Mechanism, pl: _Plan, x: list) -> tuple[list[np.ndarray],
     Each is its definition in :mod:`symkin.constraints` evaluated in floats; ``x`` are
     the node coordinates (tuples of floats).
     """
-    dim, ncoord = pl.dim, pl.ncoord
     rows, owners = [], []
     for c in slider_constraints(mech):
         for r in c.rows(FLOATS, x, x):
-            row = np.zeros(ncoord)
-            inv = 1.0 / r.scale
-            for k, coef, vec in r.terms:
-                w = coef * inv
-                for a in range(dim):
-                    row[dim * k + a] += w * vec[a]
-            rows.append(row)
+            rows.append(_dense(r, pl.dim, pl.ncoord))
             owners.append(c.owner)
     return rows, owners
+
+
+def _dense(r, dim: int, ncoord: int) -> np.ndarray:
+    """A :class:`~symkin.constraints.Row` of floats as a dense row over all coordinates."""
+    row = np.zeros(ncoord)
+    inv = 1.0 / r.scale
+    for k, coef, vec in r.terms:
+        w = coef * inv
+        for a in range(dim):
+            row[dim * k + a] += w * vec[a]
+    return row
 
 
 def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None = None) -> ConstraintRows:
@@ -556,23 +560,11 @@ def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = N
         for r, c in enumerate(comps):
             rows[r, dim * i + c] = 1.0
         return rows
-    if kind == "slide":
-        s = mech.slider(param.target[0])
+    if kind == "slide":  # the slider's rate row, as its definition states it (symkin.constraints)
         x = _xyz(mech) if xyz is None else xyz
-        p = index[s.node]
-        row = np.zeros(ncoord)
-        if s.kind == "moving_line":
-            a, c = index[s.line[0]], index[s.line[1]]
-            e = x[c] - x[a]
-            le = np.linalg.norm(e)
-            u = e / le
-            t = float(np.dot(x[p] - x[a], u) / le)
-            for k, w in ((p, 1.0), (a, -(1.0 - t)), (c, -t)):
-                row[dim * k: dim * k + dim] += w * u
-        else:
-            u = np.array(s.direction, dtype=float)
-            row[dim * p: dim * p + dim] = u / np.linalg.norm(u)
-        return row[None, :]
+        pts = [tuple(map(float, c)) for c in x]
+        rows = slider_constraint(mech, param.target[0]).rate_rows(FLOATS, pts, pts)
+        return np.array([_dense(r, dim, ncoord) for r in rows])
     raise ValueError(f"unknown parameter kind {kind!r}")
 
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import Body, SliderMovingLine, constraints_of, slider_constraints
+from symkin.constraints import Body, SliderMovingLine, constraints_of, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.joints import GROUND
@@ -258,22 +258,32 @@ class RowBuilder:
         """
         if self.mode == "angles":
             return self._angle_rows()
-        alg = Sympy(const_hook=lambda v, what="": exact(v),
-                    length_hook=lambda link, a, b, d: self.length(link, a, b))
-        X = [self.coord[n] for n in self.mech.node_names]
-        X0 = [tuple(map(float, c)) for c in self.x]
+        alg = self._algebra()
+        X, X0 = self._positions()
         rows: list[SymRow] = []
         for con in constraints_of(self.mech):
             if isinstance(con, Body):
                 rows += self._body_extra_rows(con.link, con.names)
                 continue
-            for r in con.rows(alg, X, X0):
-                merged: dict[int, list] = {}
-                for node, coef, vec in r.terms:
-                    merged.setdefault(node, []).append((coef, tuple(vec)))
-                blocks = tuple((n, tuple(t)) for n, t in sorted(merged.items()))
-                rows.append(SymRow(con.owner, con.element, blocks, r.scale))
+            rows += [self._sym_row(r, con.owner, con.element) for r in con.rows(alg, X, X0)]
         return rows
+
+    def _algebra(self) -> Sympy:
+        """The sympy algebra of the definitions: exact numbers, a design symbol per rigid pair's length."""
+        return Sympy(const_hook=lambda v, what="": exact(v),
+                     length_hook=lambda link, a, b, d: self.length(link, a, b))
+
+    def _positions(self) -> tuple[list, list]:
+        """``(X, X0)``: the nodes' coordinate symbols and their model values (floats)."""
+        return [self.coord[n] for n in self.mech.node_names], [tuple(map(float, c)) for c in self.x]
+
+    @staticmethod
+    def _sym_row(r, owner: str, element: str) -> SymRow:
+        """A definition's :class:`~symkin.constraints.Row` as a :class:`SymRow` (terms grouped by node)."""
+        merged: dict[int, list] = {}
+        for node, coef, vec in r.terms:
+            merged.setdefault(node, []).append((coef, tuple(vec)))
+        return SymRow(owner, element, tuple((n, tuple(t)) for n, t in sorted(merged.items())), r.scale)
 
     def _angle_rows(self) -> list[SymRow]:
         rows: list[SymRow] = []
@@ -460,22 +470,15 @@ class RowBuilder:
             return [SymRow(lab, param.target[0], ((node, ((sp.Integer(1), _unit(c, dim)),)),), sp.Integer(1))
                     for c, lab in zip(comps, labels)]
         if kind == "slide":
-            s = self.mech.slider(param.target[0])
-            p = s.node
-            if s.kind == "moving_line":
-                a, c = s.line
+            con = slider_constraint(self.mech, param.target[0])
+            if self.mode == "angles" and isinstance(con, SliderMovingLine):  # over the link's angle and the slide
+                s = con.slider
+                p, (a, c) = s.node, s.line
                 ll = self.length(s.link, a, c)
-                if self.mode == "angles":
-                    alpha = self.angle(s.link, a, c)
-                    u = (sp.cos(alpha), sp.sin(alpha))
-                    sv = slide_symbol(s.id)
-                    return [self._weighted_row(labels[0], s.id, u, ll, {p: ll, a: -(ll - sv), c: -sv})]
-                e = self._delta_sym(a, c)
-                t_num = _dot(self._delta_sym(a, p), e)
-                return [self._weighted_row(labels[0], s.id, e, ll ** 3,
-                                           {p: ll ** 2, a: -(ll ** 2 - t_num), c: -t_num})]
-            if s.direction is None:
-                raise SymkinError(f"slider {s.id} lies on a plane: a 'slide' rate needs a line")
-            u = tuple(exact(v) for v in s.direction)
-            return [self._weighted_row(labels[0], s.id, u, sp.sqrt(_dot(u, u)), {p: 1})]
+                alpha = self.angle(s.link, a, c)
+                u = (sp.cos(alpha), sp.sin(alpha))
+                sv = slide_symbol(s.id)
+                return [self._weighted_row(labels[0], s.id, u, ll, {p: ll, a: -(ll - sv), c: -sv})]
+            # the slider's rate row, as its definition states it (symkin.constraints)
+            return [self._sym_row(r, labels[0], con.slider.id) for r in con.rate_rows(self._algebra(), *self._positions())]
         raise SymkinError(f"unknown parameter kind {kind!r}")
