@@ -39,7 +39,7 @@ from symkin.constraints.slider_plane import SliderPlane
 from symkin.errors import ModelError, Problem
 
 __all__ = ["Constraint", "Row", "Equation", "Bar", "Body", "SliderLine", "SliderPlane", "SliderMovingLine",
-           "Helical", "constraints_of", "slider_constraints", "slider_constraint", "polynomial_constraints"]
+           "Helical", "constraints_of", "bar_constraint", "slider_constraints", "slider_constraint", "polynomial_constraints"]
 
 
 def _slider(s, index: dict) -> Constraint:
@@ -71,6 +71,16 @@ def _of_model(topology) -> tuple:
 def constraints_of(mech) -> tuple[Constraint, ...]:
     """Every constraint of ``mech``, in the row order of the numeric core (cached per topology)."""
     return _of_model(mech.topology)
+
+
+@lru_cache(maxsize=128)
+def _bars(topology) -> dict:
+    return {(c.link, frozenset((c.a, c.b))): c for c in _of_model(topology) if isinstance(c, Bar)}
+
+
+def bar_constraint(mech, link: str, a: str, b: str) -> Bar:
+    """The :class:`Bar` of the pair ``a``, ``b`` (either order) of ``link``."""
+    return _bars(mech.topology)[(link, frozenset((a, b)))]
 
 
 @lru_cache(maxsize=128)

@@ -2,7 +2,8 @@
 
 Row: ``+u`` at node i, ``−u`` at node j, ``u = (x_j − x_i)/|x_j − x_i|``; its product
 ``a aᵀ`` is the paper's element matrix entry by entry.  Equation: ``(L² − |x_j − x_i|²) /
-(2L)``, ``L`` the bar's length (a parameter of the CasADi closure): its gradient is the row
+(2L)``, ``L`` the bar's length (a parameter of the CasADi closure; the polynomial systems give
+``L²`` exactly or scaled, :meth:`~symkin.constraints.algebra.Sympy.model_length`): its gradient is the row
 times ``|x_j − x_i|/L``, so exactly the row on the closure; the numerator is the
 polynomial distance equation.
 
@@ -11,8 +12,6 @@ The numeric core keeps a vectorised evaluation of this definition for all bars a
 the two equal.
 """
 from __future__ import annotations
-
-import numpy as np
 
 from symkin.constraints.algebra import dot, sub
 from symkin.constraints.base import Constraint, Equation, Row
@@ -41,6 +40,9 @@ class Bar(Constraint):
 
     def equations(self, alg, X, X0) -> list[Equation]:
         d = sub(X[self.j], X[self.i])
-        # the model's length as NumPy's norm (the closure's parameter, to the last bit as before)
-        length = alg.param(f"length {self.owner[5:]}", float(np.linalg.norm(np.subtract(X0[self.j], X0[self.i]))))
-        return [Equation(length * length - dot(d, d), 2 * length)]
+        # (L², L) of the model: the closure's parameter squared, or the polynomial systems' exact square
+        square, length = alg.model_length(self.link, self.a, self.b, X0[self.i], X0[self.j],
+                                          f"length {self.owner[5:]}")
+        # L² − |d|² written −(|d|² − L²): the same floats (IEEE rounding is symmetric), and the polynomial
+        # systems' |d|² − L² is its negation exactly (sympy's −(−x) is x: their expressions as before)
+        return [Equation(-(dot(d, d) - square), 2 * length)]

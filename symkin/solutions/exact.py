@@ -39,7 +39,8 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import polynomial_constraints
+from symkin.constraints import bar_constraint, polynomial_constraints
+from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.coordinates import InputCoordinate, measuring_pair
@@ -127,7 +128,11 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
         if ee == 0:
             raise SymkinError(f"{mech.name}: link {name} has all its nodes at one point: no exact frame")
         d = pos[j] - pos[i]
-        equations.append(sp.expand(d.dot(d) - ee))
+        # |x_j − x_i|² − ee: the Bar's position equation (numerator L² − |d|² negated), L² exact
+        bar = bar_constraint(mech, name, i, j)
+        (eq,) = bar.equations(Sympy(squared_hook=lambda *_, ee=ee: ee), {bar.i: tuple(pos[i]), bar.j: tuple(pos[j])},
+                              {bar.i: None, bar.j: None})
+        equations.append(sp.expand(-eq.numerator))
         for k in ns:
             if k not in (i, j):  # a rigid body's other node: an affine combination of the frame (2 linear equations)
                 w = x0[k] - x0[i]

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints import SliderMovingLine, bar_constraint, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.joints import GROUND
@@ -228,10 +228,10 @@ def _bodies(b: SystemBuilder) -> None:
         if dim == 2 and rank == 2:
             frame = frame[:2]
         for a in range(len(frame)):
-            for c in range(a + 1, len(frame)):
+            for c in range(a + 1, len(frame)):  # |x_q − x_p|² − L²: the Bar's equation, L² in u
                 p, q = ns[frame[a]], ns[frame[c]]
-                d = b.node(q) - b.node(p)
-                b.add(owner, _dot(d, d) - float(np.sum((pts[frame[c]] - pts[frame[a]]) ** 2)))
+                square = float(np.sum((pts[frame[c]] - pts[frame[a]]) ** 2))
+                b.add(owner, _distance(b, name, p, q, square))
         x0 = b.node(ns[frame[0]])
         e = [b.node(ns[f]) - x0 for f in frame[1:]]
         e_model = [pts[f] - pts[frame[0]] for f in frame[1:]]
@@ -249,6 +249,15 @@ def _bodies(b: SystemBuilder) -> None:
             target = x0 + sum((float(w) * v for w, v in zip(coef, e)), sp.zeros(dim, 1))
             for r in b.node(n) - target:
                 b.add(owner, r)
+
+
+def _distance(b: SystemBuilder, link: str, p: str, q: str, square) -> sp.Expr:
+    """``|x_q − x_p|² − square`` in ``u``: the position equation of the :class:`~symkin.constraints.Bar`
+    of the pair (its numerator ``L² − |d|²`` negated), ``L² = square`` (dimensionless or exact)."""
+    bar = bar_constraint(b.mech, link, p, q)
+    X = {bar.i: tuple(b.node(p)), bar.j: tuple(b.node(q))}  # d = x_q − x_p (the equation is symmetric in the pair)
+    (eq,) = bar.equations(Sympy(squared_hook=lambda *_: square), X, {bar.i: None, bar.j: None})
+    return -eq.numerator
 
 
 def _sliders(b: SystemBuilder, skip: set) -> None:
