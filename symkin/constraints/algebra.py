@@ -14,6 +14,7 @@ operation                   :class:`Floats`        :class:`Casadi`     :class:`S
 ``pair_length(link, ...)``  ``|d|``                ``|d|``             a hook (a length symbol)
 ``model_length(link, ...)`` ``(L², L)``            ``L`` a parameter    a hook (exact, scaled ``L²``)
 ``least_aligned(e, e0)``    at ``e`` (now)         ``if_else`` on e    at ``e0`` (the model)
+``per_configuration``       True (now)             False (the model)   False (the model)
 ==========================  =====================  ==================  ==========================
 
 ``const`` is how a number of the model (a slider's point, a direction) enters; ``param``
@@ -115,6 +116,8 @@ class Floats:
 
     name = "floats"
     exact = False
+    #: discrete decisions (a degenerate body's hull and frame) are taken at every configuration
+    per_configuration = True
     sqrt = staticmethod(math.sqrt)
     atan2 = staticmethod(math.atan2)
     sin = staticmethod(math.sin)
@@ -171,6 +174,7 @@ class Casadi:
 
     name = "casadi"
     exact = False
+    per_configuration = False
 
     def __init__(self, param_hook: Callable | None = None):
         import casadi as ca
@@ -250,6 +254,7 @@ class Sympy:
 
     name = "sympy"
     exact = True
+    per_configuration = False
 
     def __init__(self, const_hook: Callable | None = None, length_hook: Callable | None = None,
                  point_hook: Callable | None = None, direction_hook: Callable | None = None,

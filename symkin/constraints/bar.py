@@ -38,11 +38,20 @@ class Bar(Constraint):
         one = alg.const(1)
         return [Row(((self.i, one, d), (self.j, -one, d)), alg.pair_length(self.link, self.a, self.b, d))]
 
-    def equations(self, alg, X, X0) -> list[Equation]:
+    def _square(self, alg, X, X0) -> tuple:
+        """``(|d|², L², L)``: the pair's squared distance and the model's ``(L², L)`` (the closure's
+        parameter squared, or the polynomial systems' exact or scaled square)."""
         d = sub(X[self.j], X[self.i])
-        # (L², L) of the model: the closure's parameter squared, or the polynomial systems' exact square
         square, length = alg.model_length(self.link, self.a, self.b, X0[self.i], X0[self.j],
                                           f"length {self.owner[5:]}")
-        # L² − |d|² written −(|d|² − L²): the same floats (IEEE rounding is symmetric), and the polynomial
-        # systems' |d|² − L² is its negation exactly (sympy's −(−x) is x: their expressions as before)
-        return [Equation(-(dot(d, d) - square), 2 * length)]
+        return dot(d, d), square, length
+
+    def equations(self, alg, X, X0) -> list[Equation]:
+        dd, square, length = self._square(alg, X, X0)
+        return [Equation(square - dd, 2 * length)]
+
+    def polynomial(self, alg, X, X0):
+        """The distance equation ``|d|² − L²`` (the numerator of :meth:`equations` negated, as the
+        polynomial systems write it; stated apart so that each keeps its rounding and sign of zero)."""
+        dd, square, _ = self._square(alg, X, X0)
+        return dd - square

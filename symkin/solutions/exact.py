@@ -128,11 +128,10 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
         if ee == 0:
             raise SymkinError(f"{mech.name}: link {name} has all its nodes at one point: no exact frame")
         d = pos[j] - pos[i]
-        # |x_j − x_i|² − ee: the Bar's position equation (numerator L² − |d|² negated), L² exact
+        # |x_j − x_i|² − ee: the Bar's distance polynomial, L² exact
         bar = bar_constraint(mech, name, i, j)
-        (eq,) = bar.equations(Sympy(squared_hook=lambda *_, ee=ee: ee), {bar.i: tuple(pos[i]), bar.j: tuple(pos[j])},
-                              {bar.i: None, bar.j: None})
-        equations.append(sp.expand(-eq.numerator))
+        equations.append(sp.expand(bar.polynomial(Sympy(squared_hook=lambda *_, ee=ee: ee),
+                                                  {bar.i: tuple(pos[i]), bar.j: tuple(pos[j])}, {bar.i: None, bar.j: None})))
         for k in ns:
             if k not in (i, j):  # a rigid body's other node: an affine combination of the frame (2 linear equations)
                 w = x0[k] - x0[i]

@@ -253,11 +253,10 @@ def _bodies(b: SystemBuilder) -> None:
 
 def _distance(b: SystemBuilder, link: str, p: str, q: str, square) -> sp.Expr:
     """``|x_q − x_p|² − square`` in ``u``: the position equation of the :class:`~symkin.constraints.Bar`
-    of the pair (its numerator ``L² − |d|²`` negated), ``L² = square`` (dimensionless or exact)."""
+    of the pair (:meth:`~symkin.constraints.Bar.polynomial`), ``L² = square`` (dimensionless or exact)."""
     bar = bar_constraint(b.mech, link, p, q)
     X = {bar.i: tuple(b.node(p)), bar.j: tuple(b.node(q))}  # d = x_q − x_p (the equation is symmetric in the pair)
-    (eq,) = bar.equations(Sympy(squared_hook=lambda *_: square), X, {bar.i: None, bar.j: None})
-    return -eq.numerator
+    return bar.polynomial(Sympy(squared_hook=lambda *_: square), X, {bar.i: None, bar.j: None})
 
 
 def _sliders(b: SystemBuilder, skip: set) -> None:

@@ -367,12 +367,11 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
 
 
 def _distance(mech: Mechanism, coord: dict, snap: ModelSnap, link: str, p: str, q: str) -> sp.Expr:
-    """``|x_q − x_p|² − L²``, ``L²`` snapped exactly: the :class:`~symkin.constraints.Bar`'s equation negated."""
+    """``|x_q − x_p|² − L²``, ``L²`` snapped exactly: :meth:`symkin.constraints.Bar.polynomial`."""
     bar = bar_constraint(mech, link, p, q)
     alg = Sympy(squared_hook=lambda *_: snap.squared_length(link, p, q))
     # d = x_q − x_p (the equation is symmetric in the pair): the expressions of the closure as they were
-    (eq,) = bar.equations(alg, {bar.i: coord[p], bar.j: coord[q]}, {bar.i: None, bar.j: None})
-    return -eq.numerator
+    return bar.polynomial(alg, {bar.i: coord[p], bar.j: coord[q]}, {bar.i: None, bar.j: None})
 
 
 def _snapped_vector(snap: ModelSnap, vec, what: str) -> tuple:

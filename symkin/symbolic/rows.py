@@ -33,12 +33,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import Body, SliderMovingLine, constraints_of, slider_constraint, slider_constraints
+from symkin.constraints import (Body, SliderMovingLine, body_constraints, constraints_of, slider_constraint,
+                                slider_constraints)
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.geometric_matrix import affine_frame  # same frame choice as the numeric core
 from symkin.numeric.linalg import affine_hull
 from symkin.symbolic.symbols import (angle_symbol, coordinate_symbol, exact, exact_angle,
                                      length_symbol, offset_symbol, slide_symbol)
@@ -262,10 +262,8 @@ class RowBuilder:
         X, X0 = self._positions()
         rows: list[SymRow] = []
         for con in constraints_of(self.mech):
-            if isinstance(con, Body):
-                rows += self._body_extra_rows(con.link, con.names)
-                continue
-            rows += [self._sym_row(r, con.owner, con.element) for r in con.rows(alg, X, X0)]
+            extra = {"tol": self.tol.geometry} if isinstance(con, Body) else {}
+            rows += [self._sym_row(r, con.owner, con.element) for r in con.rows(alg, X, X0, **extra)]
         return rows
 
     def _algebra(self) -> Sympy:
@@ -301,45 +299,21 @@ class RowBuilder:
         return rows
 
     def _body_extra_rows(self, name: str, ns: tuple[str, ...]) -> list[SymRow]:
-        pts = np.array([self.x[self.index[n]] for n in ns])
-        h, _, _ = affine_hull(pts, self.tol.geometry)
-        if h == self.dim or len(ns) <= h + 1:
+        """Angle coordinates: a degenerate (collinear) planar body's rows over its angle (node
+        coordinates: :class:`~symkin.constraints.Body`), with its decision (hull, frame)."""
+        body = next(b for b in body_constraints(self.mech) if b.link == name)
+        hull = body.hull(self.x, self.tol.geometry)
+        if hull is None:
             return []
-        frame = [ns[k] for k in affine_frame(pts, h)]
-        owner = f"link {name} (rigidity out of its hull)"
+        f0, f1 = (ns[k] for k in hull.frame)
+        owner = body.owner
+        alpha = self.angle(name, f0, f1)
+        normal = (-sp.sin(alpha), sp.cos(alpha))
+        e = self._delta_num(f0, f1)
         rows = []
-        others = [n for n in ns if n not in frame]
-        if h == 1:
-            f0, f1 = frame
-            if self.mode == "angles":
-                alpha = self.angle(name, f0, f1)
-                normal = (-sp.sin(alpha), sp.cos(alpha))
-                e = self._delta_num(f0, f1)
-                for m in others:
-                    t = exact(float(np.dot(self._delta_num(f0, m), e) / np.dot(e, e)))
-                    rows.append(self._weighted_row(owner, name, normal, sp.Integer(1),
-                                                   {m: 1, f0: -(1 - t), f1: -t}))
-                return rows
-            e = self._delta_sym(f0, f1)
-            ll = self.length(name, f0, f1)
-            normals = self._normals(e, self._delta_num(f0, f1), ll)
-            for m in others:
-                t_num = _dot(self._delta_sym(f0, m), e)
-                for n_vec, n_norm in normals:
-                    rows.append(self._weighted_row(owner, name, n_vec, ll ** 2 * n_norm,
-                                                   {m: ll ** 2, f0: -(ll ** 2 - t_num), f1: -t_num}))
-            return rows
-        # h == 2 in space: coplanar body of 4+ nodes
-        f0, f1, f2 = frame
-        e1, e2 = self._delta_sym(f0, f1), self._delta_sym(f0, f2)
-        n = _cross(e1, e2)
-        big_d = _dot(n, n)
-        for m in others:
-            d = self._delta_sym(f0, m)
-            c1 = _dot(e2, e2) * _dot(e1, d) - _dot(e1, e2) * _dot(e2, d)
-            c2 = _dot(e1, e1) * _dot(e2, d) - _dot(e1, e2) * _dot(e1, d)
-            rows.append(self._weighted_row(owner, name, n, big_d * sp.sqrt(big_d),
-                                           {m: big_d, f0: -(big_d - c1 - c2), f1: -c1, f2: -c2}))
+        for m in (n for n in ns if n not in (f0, f1)):
+            t = exact(float(np.dot(self._delta_num(f0, m), e) / np.dot(e, e)))
+            rows.append(self._weighted_row(owner, name, normal, sp.Integer(1), {m: 1, f0: -(1 - t), f1: -t}))
         return rows
 
     def _weighted_row(self, owner, element, vec, scale, weights: dict[str, sp.Expr]) -> SymRow:
