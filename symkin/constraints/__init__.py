@@ -39,7 +39,7 @@ from symkin.constraints.slider_plane import SliderPlane
 from symkin.errors import ModelError, Problem
 
 __all__ = ["Constraint", "Row", "Equation", "Bar", "Body", "SliderLine", "SliderPlane", "SliderMovingLine",
-           "Helical", "constraints_of", "bar_constraint", "body_constraints", "slider_constraints", "slider_constraint", "polynomial_constraints"]
+           "Helical", "constraints_of", "bar_constraint", "body_constraint", "body_constraints", "slider_constraints", "slider_constraint", "polynomial_constraints"]
 
 
 def _slider(s, index: dict) -> Constraint:
@@ -86,6 +86,11 @@ def _body_list(topology) -> tuple:
 def body_constraints(mech) -> tuple[Body, ...]:
     """The :class:`Body` constraints (links of 3+ nodes), in link order (cached per topology)."""
     return _body_list(mech.topology)
+
+
+def body_constraint(mech, link: str) -> Body:
+    """The :class:`Body` of ``link`` (a link of 3+ nodes)."""
+    return next(b for b in _body_list(mech.topology) if b.link == link)
 
 
 def bar_constraint(mech, link: str, a: str, b: str) -> Bar:

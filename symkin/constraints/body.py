@@ -168,6 +168,27 @@ class Body(Constraint):
             out += [Equation(dot(n, target), nn) for n, nn in normals]
         return out
 
+    def frame_equations(self, X, frame, m, coef) -> tuple:
+        """The polynomial systems' form of the body: node ``m`` at the affine coordinates ``coef`` in
+        the frame of the nodes ``frame`` (positions ``f0, f1[, f2]``), one equation per axis::
+
+            x_m − (x_f0 + Σ c_k b_k) = 0,   b = (e, e⊥) planar, (e) a rod in space,
+                                             (e1, e2, e1 × e2) in space,  e_k = x_fk − x_f0
+
+        (with the distances of the frame's pairs, :meth:`~symkin.constraints.Bar.polynomial`, a
+        rigid body whose orientation is kept: no mirror image).  The frame and the numbers
+        ``coef`` (exact, snapped or scaled) are the caller's decision.
+        """
+        edges = [sub(X[k], X[frame[0]]) for k in frame[1:]]
+        if len(edges[0]) == 2:
+            basis = [edges[0], perp(edges[0])]
+        elif len(edges) == 2:
+            basis = edges + [cross(edges[0], edges[1])]
+        else:
+            basis = edges
+        base = X[frame[0]]
+        return tuple(X[m][a] - (base[a] + _weighted(coef, [b[a] for b in basis])) for a in range(len(base)))
+
     # ------------------------------------------------------------------ what the algebras supply
     def _normals(self, alg, edges, hull: Hull, X, X0, f) -> list[tuple]:
         """The hull's normals as ``(vector, norm)`` pairs (module docstring's table)."""
@@ -211,6 +232,14 @@ class Body(Constraint):
         inv = [[g[1][1] / det, (-g[0][1]) / det], [(-g[1][0]) / det, g[0][0] / det]]
         c = tuple(inv[k][0] * r[0] + inv[k][1] * r[1] for k in range(2))
         return 1.0, c, c[0] + c[1]
+
+
+def _weighted(coef, values):
+    """``Σ c_k v_k`` from 0 (the polynomial systems' order of terms)."""
+    out = 0
+    for c, v in zip(coef, values):
+        out = out + c * v
+    return out
 
 
 class _ModelFloats:

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import SliderMovingLine, bar_constraint, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints import SliderMovingLine, bar_constraint, body_constraint, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.joints import GROUND
@@ -232,22 +232,19 @@ def _bodies(b: SystemBuilder) -> None:
                 p, q = ns[frame[a]], ns[frame[c]]
                 square = float(np.sum((pts[frame[c]] - pts[frame[a]]) ** 2))
                 b.add(owner, _distance(b, name, p, q, square))
-        x0 = b.node(ns[frame[0]])
-        e = [b.node(ns[f]) - x0 for f in frame[1:]]
         e_model = [pts[f] - pts[frame[0]] for f in frame[1:]]
-        if dim == 2 and len(e) == 1 and rank >= 1:
-            e.append(sp.Matrix([-e[0][1], e[0][0]]))
+        if dim == 2 and len(e_model) == 1 and rank >= 1:
             e_model.append(np.array([-e_model[0][1], e_model[0][0]]))
-        elif dim == 3 and len(e) == 2:
-            e.append(e[0].cross(e[1]))
+        elif dim == 3 and len(e_model) == 2:
             e_model.append(np.cross(e_model[0], e_model[1]))
         basis = np.column_stack(e_model)
         for m, n in enumerate(ns):
             if m in frame:
                 continue
+            body = body_constraint(b.mech, name)  # x_m = x_f0 + Σ c_k b_k: the body's frame equations
+            X = {k: tuple(b.node(nn)) for k, nn in zip(body.idx, ns)}
             coef = np.linalg.lstsq(basis, pts[m] - pts[frame[0]], rcond=None)[0]
-            target = x0 + sum((float(w) * v for w, v in zip(coef, e)), sp.zeros(dim, 1))
-            for r in b.node(n) - target:
+            for r in body.frame_equations(X, [body.idx[f] for f in frame], body.idx[m], [float(w) for w in coef]):
                 b.add(owner, r)
 
 

@@ -67,7 +67,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import SliderMovingLine, bar_constraint, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints import SliderMovingLine, bar_constraint, body_constraint, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.kinds import LOCUS_KINDS, Kind
@@ -352,9 +352,10 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
             coef = [snap.number(float(v), f"coordinate {k + 1} of node {m} in the frame of {name}", frame)
                     for k, v in enumerate((m0.T * m0).LUsolve(m0.T * d0))]  # affine coordinates, snapped
             affine[(name, m)] = tuple(coef)
-            target = tuple(coord[n0][a] + sum(coef[k] * basis[k][a] for k in range(len(basis))) for a in range(dim))
-            for a in range(dim):
-                eqs.append((coord[m][a] - target[a], f"link {name} (node {m} in its frame)"))
+            body = body_constraint(mech, name)  # x_m = x_n0 + Σ c_k b_k: the body's frame equations
+            at = dict(zip(body.names, body.idx))
+            eqs += [(q, f"link {name} (node {m} in its frame)") for q in body.frame_equations(
+                {at[n]: coord[n] for n in ns}, [at[n0], at[n1]] + ([at[off]] if len(basis) == 3 else []), at[m], coef)]
     alg = Sympy(point_hook=lambda v, what: tuple(snap.number(c, f"coordinate {AXES[a]} of the {what}")
                                                    for a, c in enumerate(v)),
                 direction_hook=lambda v, what: _snapped_vector(snap, v, what))
