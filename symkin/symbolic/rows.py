@@ -272,8 +272,10 @@ class RowBuilder:
                      length_hook=lambda link, a, b, d: self.length(link, a, b))
 
     def _positions(self) -> tuple[list, list]:
-        """``(X, X0)``: the nodes' coordinate symbols and their model values (floats)."""
-        return [self.coord[n] for n in self.mech.node_names], [tuple(map(float, c)) for c in self.x]
+        """``(X, X0)``: the nodes' coordinate symbols (None in angle coordinates, which have none: a
+        fixed line's rate row needs only its direction) and their model values (floats)."""
+        X = [self.coord[n] for n in self.mech.node_names] if self.mode == "nodes" else [None] * len(self.x)
+        return X, [tuple(map(float, c)) for c in self.x]
 
     @staticmethod
     def _sym_row(r, owner: str, element: str) -> SymRow:
