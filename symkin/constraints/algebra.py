@@ -12,7 +12,7 @@ operation                   :class:`Floats`        :class:`Casadi`     :class:`S
 ``point``, ``direction``    floats                 floats              hooks (snapped, scaled)
 ``param(label, v)``         ``v``                  a new symbol        ``const(v)``
 ``pair_length(link, ...)``  ``|d|``                ``|d|``             a hook (a length symbol)
-``model_length(link, ...)`` ``(L², L)``            ``L`` a parameter    a hook (exact, scaled ``L²``)
+``model_length(...)``       ``(L², L)``            ``L`` a parameter   a hook (exact or scaled ``L²``)
 ``least_aligned(e, e0)``    at ``e`` (now)         ``if_else`` on e    at ``e0`` (the model)
 ``per_configuration``       True (now)             False (the model)   False (the model)
 ==========================  =====================  ==================  ==========================

@@ -20,8 +20,9 @@ sum, ``G = Σ a aᵀ = Jᵀ J`` (eqs. 2-3).  The rows are:
 Each kind is defined once, in :mod:`symkin.constraints` (the same definitions give the
 CasADi, sympy and polynomial forms); here the sliders and helical pairs are those
 definitions evaluated in floats, and the bars are the vectorised evaluation of
-:class:`symkin.constraints.Bar` (a test keeps them equal).  The out-of-hull rows of a
-degenerate body are written here (:mod:`symkin.constraints.body` says why).
+:class:`symkin.constraints.Bar` (a test keeps them equal); the out-of-hull rows of a
+degenerate body are :class:`symkin.constraints.Body` evaluated in floats (its decision, the
+hull and frame, taken at every configuration).
 
 Fixed nodes are boundary conditions: the analysis works on the *free* coordinates
 (the reduced matrix); :func:`geometric_matrix` with ``boundary=True`` returns the

@@ -23,7 +23,9 @@ Design parameters (lengths, internal angles ``beta``) are always symbols here; t
 (:mod:`symkin.symbolic.model`) substitutes their values unless design symbols were asked for.
 Structural decisions (which nodes of a body are degenerate, the frame of a degenerate body,
 the node pair that measures a planar link's rotation) are taken at the model's
-configuration exactly as the numeric core takes them.
+configuration exactly as the numeric core takes them.  In node coordinates every constraint
+row (bars, degenerate bodies, sliders, helical pairs) and a slide's rate row are the
+definitions of :mod:`symkin.constraints` evaluated in sympy.
 """
 from __future__ import annotations
 
