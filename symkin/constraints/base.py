@@ -89,6 +89,13 @@ class Constraint:
 
         raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide rate (a 'slide' rate needs a line)")
 
+    def slide_polynomial(self, X, X0, value):
+        """The polynomial equation of a prescribed slide (``value`` from the model's): a slider on a
+        line states it; other kinds raise :class:`~symkin.errors.SymkinError` naming the constraint."""
+        from symkin.errors import SymkinError
+
+        raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide to prescribe (a slide needs a line)")
+
 
 def normals(alg, e, e0, length) -> list[tuple[tuple, object]]:
     """The normals of the direction ``e`` (of norm ``length``) as ``(vector, norm)`` pairs.

@@ -61,3 +61,16 @@ class SliderLine(Constraint):
             return [Row(((self.p, alg.const(1), d),), alg.norm(d))]
         length = alg.norm(d)
         return [Row(((self.p, alg.const(1), tuple(c / length for c in d)),), alg.const(1))]
+
+    def nodes(self) -> tuple:
+        """The node positions the constraint involves."""
+        return (self.p,)
+
+    def slide_polynomial(self, X, X0, value):
+        """The polynomial systems' prescribed slide: ``d̂·(x_P − x⁰_P) − value`` (linear; ``X0`` the
+        model's positions, ``value`` in the units of ``X``)."""
+        import numpy as np
+
+        d = np.array(self.slider.direction, float)
+        d = d / np.linalg.norm(d)
+        return dot([float(v) for v in d], sub(X[self.p], tuple(X0[self.p]))) - value

@@ -73,3 +73,17 @@ class SliderMovingLine(Constraint):
         t = alg.inner(r, u) / length
         one = alg.const(1)
         return [Row(((self.p, one, u), (self.a, -(one - t), u), (self.c, -t, u)), one)]
+
+    def nodes(self) -> tuple:
+        """The node positions the constraint involves."""
+        return (self.p, self.a, self.c)
+
+    def slide_polynomial(self, X, X0, value):
+        """The polynomial systems' prescribed slide: ``(x_P − x_A)·e − (s₀ + value)·|e₀|`` (bilinear;
+        the slide from A is ``s₀ + value``, ``s₀`` the model's, the pair's length ``|e₀|`` fixed; ``X0``
+        the model's positions, ``value`` in the units of ``X``)."""
+        import numpy as np
+
+        e0 = np.asarray(X0[self.c]) - np.asarray(X0[self.a])
+        rho = float((np.asarray(X0[self.p]) - np.asarray(X0[self.a])) @ e0 / np.linalg.norm(e0)) + value
+        return dot(sub(X[self.p], X[self.a]), sub(X[self.c], X[self.a])) - rho * float(np.linalg.norm(e0))

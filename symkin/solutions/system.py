@@ -343,19 +343,11 @@ def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> No
             axis = AXES.index(p.component) if p.component else c.component
             n = p.target[0]
             b.add(owner, b.node(n)[axis] - float(b.model(n)[axis]) - value / b.scale)
-        elif p.kind == "slide":
-            s = mech.slider(p.target[0])
-            x = b.node(s.node)
-            if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
-                a, cc = b.node(s.line[0]), b.node(s.line[1])
-                u0 = b.model(s.line[1]) - b.model(s.line[0])
-                along0 = float((b.model(s.node) - b.model(s.line[0])) @ u0 / np.linalg.norm(u0))
-                rho = along0 + value / b.scale
-                b.add(owner, _dot(x - a, cc - a) - rho * float(np.linalg.norm(u0)))
-            else:
-                d = np.array(s.direction, float)
-                d = d / np.linalg.norm(d)
-                b.add(owner, _dot([float(v) for v in d], x - sp.Matrix(b.model(s.node))) - value / b.scale)
+        elif p.kind == "slide":  # the slider's definition states its prescribed slide (in u)
+            con = slider_constraint(mech, p.target[0])
+            X = {k: tuple(b.node(n)) for k, n in enumerate(names) if k in con.nodes()}
+            X0 = {k: b.model(n) for k, n in enumerate(names) if k in con.nodes()}
+            b.add(owner, con.slide_polynomial(X, X0, value / b.scale))
         else:
             raise SymkinError(f"{c.label}: a {p.kind} value cannot be prescribed to solve the position problem")
 
