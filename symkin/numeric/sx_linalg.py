@@ -129,15 +129,17 @@ def givens_qr(cols: list[list[Any]], m: int, pairs: list | None = None) -> tuple
     follow one another without a division in between, and one reciprocal serves ``c`` and
     ``s``.  Two zero entries give the identity rotation.
     """
-    a = [row[:] for row in cols]
-    n, width = len(a), len(a[0]) if a else 0
+    n, width = len(cols), len(cols[0]) if cols else 0
+    # the rows as SX row vectors: a rotation updates two of them with whole-vector operations
+    # (entry by entry the operations of a scalar loop; a pair of zeros gives the zero it was)
+    rows = [ca.horzcat(*[ca.SX(x) for x in row]) if width else ca.SX(1, 0) for row in cols]
     rotations = []
     for k in range(m):
         for i in range(k + 1, n):
-            b = a[i][k]
+            b = rows[i][0, k]
             if _zero(b):
                 continue
-            top = a[k][k]
+            top = rows[k][0, k]
             if pairs is not None:
                 pairs.append((top, b))
             r = root(top * top + b * b)  # finite derivative where both entries vanish
@@ -146,14 +148,10 @@ def givens_qr(cols: list[list[Any]], m: int, pairs: list | None = None) -> tuple
             c = (top + zero) * inv
             s = b * inv
             rotations.append((k, i, c, s))
-            for j in range(k + 1, width):
-                akj, aij = a[k][j], a[i][j]
-                if _zero(akj) and _zero(aij):
-                    continue
-                a[k][j] = c * akj + s * aij
-                a[i][j] = c * aij - s * akj
-            a[k][k] = r
-            a[i][k] = ca.SX(0)
+            tk, ti = rows[k][0, k + 1:], rows[i][0, k + 1:]
+            rows[k] = ca.horzcat(rows[k][0, :k], r, c * tk + s * ti)
+            rows[i] = ca.horzcat(rows[i][0, :k], ca.SX(0), c * ti - s * tk)
+    a = [[row[0, j] for j in range(width)] for row in rows]
     return a, rotations
 
 
