@@ -18,9 +18,9 @@ tridiagonal reduction is cubic in that size, 1.9 million CasADi instructions.  B
 benchmark existed the build took 49 s CPU (ratio 14 to the node form, same machine, same run):
 the Householder reduction built its graph one scalar operation at a time through CasADi's
 Python bindings (23 s), and CasADi's common-subexpression pass on the 1.9 million instructions
-took 16-20 s for 1.3 % fewer instructions.  Now the reduction builds the same graph with
-whole-matrix operations (the same operations in the same order: the same values bit for bit)
-and CSE is skipped above ``evaluators.CSE_LIMIT`` instructions.
+took 16-20 s for 1.3 % fewer instructions.  Now the reduction and the Givens QR build the same
+graphs with whole-matrix operations (the same operations in the same order: the same values bit
+for bit) and CSE is skipped above ``evaluators.CSE_LIMIT`` instructions: 8.75 s (ratio 4.6).
 """
 from __future__ import annotations
 
