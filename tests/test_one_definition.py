@@ -32,7 +32,7 @@ FILES = sorted(PACKAGE.rglob("*.py"))
 SOLVES = {"lstsq", "solve", "pinv", "inv", "least_squares_step", "stacked_steps"}
 LOOP_OWNERS = {"symkin/curves/corrector.py"}
 NOT_NEWTON = {
-    ("symkin/numeric/geometric_matrix.py", "_body_extra_rows"):
+    ("symkin/constraints/body.py", "_affine"):
         "one least-squares solve per node of a degenerate body (its affine coordinates), accumulated "
         "into rows: no iterate",
     ("symkin/solutions/system.py", "_bodies"):
@@ -135,8 +135,8 @@ ALLOWED_LITERALS: dict[str, dict[str, tuple[int, str]]] = {
                                    "1e-9": (1, "_ALIGNED: cosine slack of a geometric alignment check")},
     "symkin/numeric/evaluators.py": {"1e-12": (1, "Evaluators.project's default residual (= Tolerances.newton)"),
                                      "1e-10": (1, "a generated kernel's validity bound on J_S (SX expression)")},
-    "symkin/numeric/geometric_matrix.py": {"1e-9": (1, "tie-break of the affine frame's greedy choice"),
-                                           "1e-10": (1, "pseudo-inverse cutoff of a body's frame"),
+    "symkin/constraints/body.py": {"1e-9": (1, "tie-break of the affine frame's greedy choice")},
+    "symkin/numeric/geometric_matrix.py": {"1e-10": (1, "pseudo-inverse cutoff of a body's frame"),
                                            "1e-4": (1, "_WELL_CONDITIONED: the normal-equations fast path")},
     "symkin/numeric/sx_linalg.py": {"1e-12": (3, "certified eigenvalue width and the bracket below λ_1 "
                                                  "(generated SX code)"),

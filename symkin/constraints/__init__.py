@@ -7,7 +7,7 @@ algebra (:mod:`symkin.constraints.algebra`: floats, CasADi SX, sympy):
 module                      constraint
 ==========================  ==================================================================
 :mod:`.bar`                 a pair of nodes of a link (paper eqs. A3, A4)
-:mod:`.body`                (marker) the rows of a degenerate body out of its hull
+:mod:`.body`                the rows of a degenerate body out of its hull
 :mod:`.slider_line`         a node on a fixed line
 :mod:`.slider_plane`        a node on a fixed plane
 :mod:`.slider_moving_line`  a node on the moving line through two nodes of a link
@@ -39,7 +39,7 @@ from symkin.constraints.slider_plane import SliderPlane
 from symkin.errors import ModelError, Problem
 
 __all__ = ["Constraint", "Row", "Equation", "Bar", "Body", "SliderLine", "SliderPlane", "SliderMovingLine",
-           "Helical", "constraints_of", "slider_constraints", "slider_constraint", "polynomial_constraints"]
+           "Helical", "constraints_of", "bar_constraint", "body_constraint", "body_constraints", "slider_constraints", "slider_constraint", "polynomial_constraints"]
 
 
 def _slider(s, index: dict) -> Constraint:
@@ -71,6 +71,31 @@ def _of_model(topology) -> tuple:
 def constraints_of(mech) -> tuple[Constraint, ...]:
     """Every constraint of ``mech``, in the row order of the numeric core (cached per topology)."""
     return _of_model(mech.topology)
+
+
+@lru_cache(maxsize=128)
+def _bars(topology) -> dict:
+    return {(c.link, frozenset((c.a, c.b))): c for c in _of_model(topology) if isinstance(c, Bar)}
+
+
+@lru_cache(maxsize=128)
+def _body_list(topology) -> tuple:
+    return tuple(c for c in _of_model(topology) if isinstance(c, Body))
+
+
+def body_constraints(mech) -> tuple[Body, ...]:
+    """The :class:`Body` constraints (links of 3+ nodes), in link order (cached per topology)."""
+    return _body_list(mech.topology)
+
+
+def body_constraint(mech, link: str) -> Body:
+    """The :class:`Body` of ``link`` (a link of 3+ nodes)."""
+    return next(b for b in _body_list(mech.topology) if b.link == link)
+
+
+def bar_constraint(mech, link: str, a: str, b: str) -> Bar:
+    """The :class:`Bar` of the pair ``a``, ``b`` (either order) of ``link``."""
+    return _bars(mech.topology)[(link, frozenset((a, b)))]
 
 
 @lru_cache(maxsize=128)

@@ -12,7 +12,9 @@ operation                   :class:`Floats`        :class:`Casadi`     :class:`S
 ``point``, ``direction``    floats                 floats              hooks (snapped, scaled)
 ``param(label, v)``         ``v``                  a new symbol        ``const(v)``
 ``pair_length(link, ...)``  ``|d|``                ``|d|``             a hook (a length symbol)
+``model_length(...)``       ``(L², L)``            ``L`` a parameter   a hook (exact or scaled ``L²``)
 ``least_aligned(e, e0)``    at ``e`` (now)         ``if_else`` on e    at ``e0`` (the model)
+``per_configuration``       True (now)             False (the model)   False (the model)
 ==========================  =====================  ==================  ==========================
 
 ``const`` is how a number of the model (a slider's point, a direction) enters; ``param``
@@ -99,12 +101,23 @@ def _one_hot(k: int, n: int, one=1.0, zero=0.0) -> tuple:
     return tuple(one if i == k else zero for i in range(n))
 
 
+def model_length(alg, p0, q0, label: str) -> tuple:
+    """``(L², L)``, ``L = alg.param(label, |q0 − p0|)`` the model's length of a rigid pair (NumPy's norm:
+    the CasADi closure's parameter to the last bit)."""
+    import numpy as np
+
+    length = alg.param(label, float(np.linalg.norm(np.subtract(q0, p0))))
+    return length * length, length
+
+
 # ---------------------------------------------------------------------- algebras
 class Floats:
     """Plain Python floats (the numeric core; faster than NumPy for a constraint's few numbers)."""
 
     name = "floats"
     exact = False
+    #: discrete decisions (a degenerate body's hull and frame) are taken at every configuration
+    per_configuration = True
     sqrt = staticmethod(math.sqrt)
     atan2 = staticmethod(math.atan2)
     sin = staticmethod(math.sin)
@@ -118,6 +131,10 @@ class Floats:
 
     def pair_length(self, link, a, b, d):
         return math.sqrt(dot(d, d))
+
+    def model_length(self, link, a, b, p0, q0, label: str):
+        """``(L², L)`` of a rigid pair from its nodes' model positions ``p0``, ``q0``: :func:`model_length`."""
+        return model_length(self, p0, q0, label)
 
     def point(self, values, what: str = "") -> tuple:
         return tuple(float(v) for v in values)
@@ -157,6 +174,7 @@ class Casadi:
 
     name = "casadi"
     exact = False
+    per_configuration = False
 
     def __init__(self, param_hook: Callable | None = None):
         import casadi as ca
@@ -173,6 +191,10 @@ class Casadi:
 
     def pair_length(self, link, a, b, d):
         return self.ca.sqrt(dot(d, d))
+
+    def model_length(self, link, a, b, p0, q0, label: str):
+        """:func:`model_length`: the length is a closure parameter (``param``)."""
+        return model_length(self, p0, q0, label)
 
     def point(self, values, what: str = "") -> tuple:
         return tuple(float(v) for v in values)
@@ -232,14 +254,17 @@ class Sympy:
 
     name = "sympy"
     exact = True
+    per_configuration = False
 
     def __init__(self, const_hook: Callable | None = None, length_hook: Callable | None = None,
-                 point_hook: Callable | None = None, direction_hook: Callable | None = None):
+                 point_hook: Callable | None = None, direction_hook: Callable | None = None,
+                 squared_hook: Callable | None = None):
         import sympy as sp
 
         self.sp = sp
         self._const = const_hook
         self._length = length_hook
+        self._squared = squared_hook
         self._point, self._direction = point_hook, direction_hook
         self.sqrt, self.sin, self.cos = sp.sqrt, sp.sin, sp.cos
         self.atan2 = sp.atan2
@@ -258,6 +283,14 @@ class Sympy:
         if self._length is not None:
             return self._length(link, a, b, d)
         return self.sp.sqrt(self.sp.expand(dot(d, d)))
+
+    def model_length(self, link, a, b, p0, q0, label: str):
+        """``(L², L)`` of the pair ``a``-``b`` of ``link``: ``squared_hook(link, a, b, p0, q0)`` and its
+        square root when given (the polynomial systems' exact or scaled squares), else :func:`model_length`."""
+        if self._squared is not None:
+            square = self._squared(link, a, b, p0, q0)
+            return square, self.sp.sqrt(square)
+        return model_length(self, p0, q0, label)
 
     def point(self, values, what: str = "") -> tuple:
         if self._point is not None:

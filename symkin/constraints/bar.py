@@ -2,7 +2,8 @@
 
 Row: ``+u`` at node i, ``−u`` at node j, ``u = (x_j − x_i)/|x_j − x_i|``; its product
 ``a aᵀ`` is the paper's element matrix entry by entry.  Equation: ``(L² − |x_j − x_i|²) /
-(2L)``, ``L`` the bar's length (a parameter of the CasADi closure): its gradient is the row
+(2L)``, ``L`` the bar's length (a parameter of the CasADi closure; the polynomial systems give
+``L²`` exactly or scaled, :meth:`~symkin.constraints.algebra.Sympy.model_length`): its gradient is the row
 times ``|x_j − x_i|/L``, so exactly the row on the closure; the numerator is the
 polynomial distance equation.
 
@@ -11,8 +12,6 @@ The numeric core keeps a vectorised evaluation of this definition for all bars a
 the two equal.
 """
 from __future__ import annotations
-
-import numpy as np
 
 from symkin.constraints.algebra import dot, sub
 from symkin.constraints.base import Constraint, Equation, Row
@@ -39,8 +38,20 @@ class Bar(Constraint):
         one = alg.const(1)
         return [Row(((self.i, one, d), (self.j, -one, d)), alg.pair_length(self.link, self.a, self.b, d))]
 
-    def equations(self, alg, X, X0) -> list[Equation]:
+    def _square(self, alg, X, X0) -> tuple:
+        """``(|d|², L², L)``: the pair's squared distance and the model's ``(L², L)`` (the closure's
+        parameter squared, or the polynomial systems' exact or scaled square)."""
         d = sub(X[self.j], X[self.i])
-        # the model's length as NumPy's norm (the closure's parameter, to the last bit as before)
-        length = alg.param(f"length {self.owner[5:]}", float(np.linalg.norm(np.subtract(X0[self.j], X0[self.i]))))
-        return [Equation(length * length - dot(d, d), 2 * length)]
+        square, length = alg.model_length(self.link, self.a, self.b, X0[self.i], X0[self.j],
+                                          f"length {self.owner[5:]}")
+        return dot(d, d), square, length
+
+    def equations(self, alg, X, X0) -> list[Equation]:
+        dd, square, length = self._square(alg, X, X0)
+        return [Equation(square - dd, 2 * length)]
+
+    def polynomial(self, alg, X, X0):
+        """The distance equation ``|d|² − L²`` (the numerator of :meth:`equations` negated, as the
+        polynomial systems write it; stated apart so that each keeps its rounding and sign of zero)."""
+        dd, square, _ = self._square(alg, X, X0)
+        return dd - square

@@ -81,6 +81,21 @@ class Constraint:
     def equations(self, alg, X, X0) -> list[Equation]:
         raise NotImplementedError
 
+    def rate_rows(self, alg, X, X0) -> list[Row]:
+        """The rows of the constraint's own rate (a slider's slide along its line, model units
+        per unit time), the parameter rows of a ``slide`` input or output; a kind without a
+        rate raises :class:`~symkin.errors.SymkinError` naming it."""
+        from symkin.errors import SymkinError
+
+        raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide rate (a 'slide' rate needs a line)")
+
+    def slide_polynomial(self, X, X0, value):
+        """The polynomial equation of a prescribed slide (``value`` from the model's): a slider on a
+        line states it; other kinds raise :class:`~symkin.errors.SymkinError` naming the constraint."""
+        from symkin.errors import SymkinError
+
+        raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide to prescribe (a slide needs a line)")
+
 
 def normals(alg, e, e0, length) -> list[tuple[tuple, object]]:
     """The normals of the direction ``e`` (of norm ``length``) as ``(vector, norm)`` pairs.

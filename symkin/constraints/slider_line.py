@@ -3,7 +3,7 @@
 Rows: ``n·ẋ_P = 0`` for each normal ``n`` of the line (one in the plane, two in space:
 :func:`symkin.constraints.base.normals`).  Equations: ``(n·x_P − n·p) / |n|`` (linear;
 ``n·p`` is the slider's offset, a parameter of the CasADi closure).  Slide coordinate:
-``(x_P − p)·d/|d|``.
+``(x_P − p)·d/|d|``; its rate row (:meth:`SliderLine.rate_rows`): ``d·ẋ_P/|d|``.
 """
 from __future__ import annotations
 
@@ -53,3 +53,24 @@ class SliderLine(Constraint):
         d = self._vector(alg, "direction", self.slider.direction)
         point = self._vector(alg, "point", self.slider.point)
         return dot(sub(X[self.p], point), d) / alg.norm(d)
+
+    def rate_rows(self, alg, X, X0) -> list[Row]:
+        """The slide rate ``d·ẋ_P / |d|``: the unit direction at P (exact algebras: ``d`` over ``|d|``)."""
+        d = self._vector(alg, "direction", self.slider.direction)
+        if alg.exact:
+            return [Row(((self.p, alg.const(1), d),), alg.norm(d))]
+        length = alg.norm(d)
+        return [Row(((self.p, alg.const(1), tuple(c / length for c in d)),), alg.const(1))]
+
+    def nodes(self) -> tuple:
+        """The node positions the constraint involves."""
+        return (self.p,)
+
+    def slide_polynomial(self, X, X0, value):
+        """The polynomial systems' prescribed slide: ``d̂·(x_P − x⁰_P) − value`` (linear; ``X0`` the
+        model's positions, ``value`` in the units of ``X``)."""
+        import numpy as np
+
+        d = np.array(self.slider.direction, float)
+        d = d / np.linalg.norm(d)
+        return dot([float(v) for v in d], sub(X[self.p], tuple(X0[self.p]))) - value

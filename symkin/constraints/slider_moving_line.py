@@ -5,7 +5,9 @@ Rows: ``n·(ẋ_P − (1−t) ẋ_A − t ẋ_C) = 0`` for each normal ``n`` of 
 along the line).  Written over the pair's length ``l`` (a design symbol in the symbolic
 rows) with polynomial blocks: ``(l² ẋ_P − (l² − τ) ẋ_A − τ ẋ_C)·n / (l²|n|)``, ``τ =
 (x_P − x_A)·e``.  Equations: ``n·(x_P − x_A) / |n|`` (the cross product ``e × (x_P − x_A)``
-in the plane; degree 2 and 3 in space).  Slide coordinate: ``(x_P − x_A)·e/|e|``.
+in the plane; degree 2 and 3 in space).  Slide coordinate: ``(x_P − x_A)·e/|e|``; its rate row (:meth:`SliderMovingLine.rate_rows`, the
+slide of P relative to the line's rigid velocity field): ``ê·(ẋ_P − (1−t) ẋ_A − t ẋ_C)``
+(exact algebras: ``e·(l² ẋ_P − (l² − τ) ẋ_A − τ ẋ_C) / l³``).
 """
 from __future__ import annotations
 
@@ -55,3 +57,33 @@ class SliderMovingLine(Constraint):
         """The slide of P along the line from A (model units)."""
         e = sub(X[self.c], X[self.a])
         return dot(sub(X[self.p], X[self.a]), e) / alg.norm(e)
+
+    def rate_rows(self, alg, X, X0) -> list[Row]:
+        """The slide rate of P along the line, relative to the line's rigid motion (module docstring)."""
+        e = sub(X[self.c], X[self.a])
+        r = sub(X[self.p], X[self.a])
+        if alg.exact:
+            s = self.slider
+            length = alg.pair_length(s.link, s.line[0], s.line[1], e)
+            l2 = length * length
+            tau = dot(r, e)
+            return [Row(((self.p, l2, e), (self.a, -(l2 - tau), e), (self.c, -tau, e)), l2 * length)]
+        length = alg.norm(e)
+        u = tuple(c / length for c in e)
+        t = alg.inner(r, u) / length
+        one = alg.const(1)
+        return [Row(((self.p, one, u), (self.a, -(one - t), u), (self.c, -t, u)), one)]
+
+    def nodes(self) -> tuple:
+        """The node positions the constraint involves."""
+        return (self.p, self.a, self.c)
+
+    def slide_polynomial(self, X, X0, value):
+        """The polynomial systems' prescribed slide: ``(x_P − x_A)·e − (s₀ + value)·|e₀|`` (bilinear;
+        the slide from A is ``s₀ + value``, ``s₀`` the model's, the pair's length ``|e₀|`` fixed; ``X0``
+        the model's positions, ``value`` in the units of ``X``)."""
+        import numpy as np
+
+        e0 = np.asarray(X0[self.c]) - np.asarray(X0[self.a])
+        rho = float((np.asarray(X0[self.p]) - np.asarray(X0[self.a])) @ e0 / np.linalg.norm(e0)) + value
+        return dot(sub(X[self.p], X[self.a]), sub(X[self.c], X[self.a])) - rho * float(np.linalg.norm(e0))

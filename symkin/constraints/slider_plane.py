@@ -43,3 +43,7 @@ class SliderPlane(Constraint):
         point = self._vector(alg, "point", self.slider.point)
         off = alg.param(f"offset slider {self.slider.id}", alg.inner(n, point))
         return [Equation(dot(n, X[self.p]) - off, nn)]
+
+    def nodes(self) -> tuple:
+        """The node positions the constraint involves."""
+        return (self.p,)

@@ -12,9 +12,8 @@ enter as constants taken from the model.  Every row is the same dimensionless ro
 * slider on a fixed line / plane: ``n·ẋ_P``; on the moving line A-C:
   ``n·(ẋ_P - (1-t) ẋ_A - t ẋ_C)``; the screw row of a helical pair.
 
-Bars, sliders and helical pairs are their definitions of :mod:`symkin.constraints`
-evaluated in SX (rows and closure equations alike); the degenerate bodies' rows are
-written here.
+Bars, degenerate bodies, sliders and helical pairs are their definitions of
+:mod:`symkin.constraints` evaluated in SX (rows and closure equations alike).
 
 Discrete choices the core makes at every configuration (the node of a link farthest
 from its first node, the coordinate axis least aligned with a line) are reproduced with
@@ -43,11 +42,11 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from symkin.constraints import Body, constraints_of
+from symkin.constraints import Body, constraints_of, slider_constraint
 from symkin.constraints.algebra import Casadi
 from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.geometric_matrix import affine_frame, coordinate_labels, free_mask
+from symkin.numeric.geometric_matrix import coordinate_labels, free_mask
 from symkin.numeric.linalg import affine_hull
 from symkin.tolerances import DEFAULT
 
@@ -64,10 +63,6 @@ def _dot(a: ca.SX, b: ca.SX) -> ca.SX:
 
 def _norm(a: ca.SX) -> ca.SX:
     return ca.sqrt(_dot(a, a))
-
-
-def _cross(a: ca.SX, b: ca.SX) -> ca.SX:
-    return ca.vertcat(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
 def _skew(r: ca.SX) -> ca.SX:
@@ -89,12 +84,6 @@ def _inv3_sym(m: ca.SX) -> ca.SX:
     det = a * c00 + b * c01 + c * c02
     return ca.vertcat(ca.horzcat(c00, c01, c02), ca.horzcat(c01, c11, c12),
                       ca.horzcat(c02, c12, c22)) / det
-
-
-def _normal_basis(u: ca.SX) -> list[ca.SX]:
-    """SX version of :func:`symkin.numeric.linalg.normal_basis` (same choice of axis): the
-    constraints' :meth:`symkin.constraints.algebra.Casadi.unit_normals`."""
-    return [ca.vertcat(*n) for n in Casadi().unit_normals(tuple(u[k] for k in range(u.numel())))]
 
 
 # ---------------------------------------------------------------------- the model
@@ -198,6 +187,15 @@ class _Builder:
         d = self.dim
         return self.x[d * i: d * i + d]
 
+    def nodes(self) -> list[tuple]:
+        """Every node's position as a tuple of SX scalars (the algebra's vectors)."""
+        d = self.dim
+        return [tuple(self.x[d * i + a] for a in range(d)) for i in range(len(self.mech.nodes))]
+
+    def nodes0(self) -> list[tuple]:
+        """Every node's position at the model's configuration (floats)."""
+        return [tuple(map(float, c)) for c in self.xyz0]
+
     def param(self, label: str, value: float) -> ca.SX:
         s = ca.SX.sym(f"p{len(self.p_syms)}")
         self.p_syms.append(s)
@@ -217,86 +215,22 @@ class _Builder:
     def constraints(self):
         rows, owners, closure = [], [], []
         alg = Casadi(self.param)
-        dim = self.dim
-        X = [tuple(self.x[dim * i + a] for a in range(dim)) for i in range(len(self.mech.nodes))]
-        X0 = [tuple(map(float, c)) for c in self.xyz0]
+        X, X0 = self.nodes(), self.nodes0()
         for con in constraints_of(self.mech):
-            if isinstance(con, Body):
-                r, c = self.body_extra(con.link, con.names, list(con.idx))
-                rows += r
-                closure += c
-                owners += [con.owner] * len(r)
-                continue
-            for r in con.rows(alg, X, X0):  # divided by the scale (not times its inverse): the core's rounding
+            extra = {}
+            if isinstance(con, Body):  # decided once, at the model's configuration
+                hull = con.hull(X0, self.tol)
+                if hull is None:
+                    continue
+                self.structural.append(con.frame_note(hull))
+                extra = {"tol": self.tol}
+            for r in con.rows(alg, X, X0, **extra):  # divided by the scale (not times its inverse): the core's rounding
                 rows.append(self.row({k: ca.vertcat(*[v / r.scale for v in vec]) for k, vec in r.blocks().items()}))
                 owners.append(con.owner)
-            closure += [eq.numerator / eq.denominator for eq in con.equations(alg, X, X0)]
+            closure += [eq.numerator / eq.denominator for eq in con.equations(alg, X, X0, **extra)]
         j = ca.vertcat(*rows) if rows else ca.SX(0, self.D)
         phi = ca.vertcat(*closure) if closure else ca.SX(0, 1)
         return j, tuple(owners), phi
-
-    def body_extra(self, name: str, ns, idx: list[int]):
-        """Rows making a degenerate body rigid out of its affine hull (decided at the model)."""
-        dim = self.dim
-        pts0 = self.xyz0[idx]
-        h, _, normals0 = affine_hull(pts0, self.tol)
-        if h == dim or len(idx) <= h + 1:
-            return [], []
-        frame = affine_frame(pts0, h)
-        self.structural.append(f"link {name}: nodes span a {h}-dimensional hull (frame "
-                               f"{', '.join(ns[k] for k in frame)}) — fixed at the model's configuration")
-        base = self.node(idx[frame[0]])
-        edges = [self.node(idx[k]) - base for k in frame[1:]]
-        # normals of the hull as functions of the frame (sign matched to the core's at the model)
-        if dim == 2:
-            e = edges[0]
-            normals = [ca.vertcat(-e[1], e[0]) / _norm(e)]
-        elif h == 2:
-            nrm = _cross(edges[0], edges[1])
-            normals = [nrm / _norm(nrm)]
-        else:
-            normals = _normal_basis(edges[0] / _norm(edges[0]))
-        if len(normals) == 1:
-            f0 = ca.Function("n0", [self.q], [normals[0]])
-            n_model = np.array(f0(self.q_model())).ravel()
-            if float(n_model @ normals0[0]) < 0:
-                normals = [-normals[0]]
-        # affine coordinates of m on the frame: least squares, as the core's lstsq
-        gram = ca.SX(h, h)
-        for a in range(h):
-            for b in range(h):
-                gram[a, b] = _dot(edges[a], edges[b])
-        if h == 1:
-            ginv = 1 / gram
-        else:
-            det = gram[0, 0] * gram[1, 1] - gram[0, 1] * gram[1, 0]
-            ginv = ca.vertcat(ca.horzcat(gram[1, 1], -gram[0, 1]), ca.horzcat(-gram[1, 0], gram[0, 0])) / det
-        rows, closure = [], []
-        for m in range(len(idx)):
-            if m in frame:
-                continue
-            rhs = ca.vertcat(*[_dot(edges[a], self.node(idx[m]) - base) for a in range(h)])
-            coef = ca.mtimes(ginv, rhs)
-            weights = {frame[0]: 1 - ca.sum1(coef)}
-            for k in range(h):
-                weights[frame[k + 1]] = coef[k]
-            # constant affine coordinates for the closure (the model's)
-            fc = ca.Function("c", [self.q], [coef])
-            c0 = np.array(fc(self.q_model())).ravel()
-            cp = [self.param(f"affine {name} ({ns[m]} on {ns[frame[k + 1]]})", c0[k]) for k in range(h)]
-            wp = {frame[0]: 1 - sum(cp)}
-            for k in range(h):
-                wp[frame[k + 1]] = cp[k]
-            target = self.node(idx[m])
-            for k, w in wp.items():
-                target = target - w * self.node(idx[k])
-            for n in normals:
-                blocks = {idx[m]: n}
-                for k, w in weights.items():
-                    blocks[idx[k]] = blocks.get(idx[k], ca.SX(dim, 1)) - w * n
-                rows.append(self.row(blocks))
-                closure.append(_dot(n, target))
-        return rows, closure
 
     def q_model(self) -> np.ndarray:
         return self.xyz0.ravel()[self.free]
@@ -384,18 +318,10 @@ class _Builder:
                 e[c] = 1.0
                 out.append(self.row({i: ca.SX(ca.DM(e))}))
             return ca.vertcat(*out)
-        if kind == "slide":
-            s = self.mech.slider(param.target[0])
-            p = self.index[s.node]
-            if s.kind == "moving_line":
-                a, c = self.index[s.line[0]], self.index[s.line[1]]
-                e = self.node(c) - self.node(a)
-                le = _norm(e)
-                u = e / le
-                t = _dot(self.node(p) - self.node(a), u) / le
-                return self.row({p: u, a: -(1 - t) * u, c: -t * u})
-            u = np.array(s.direction, dtype=float)
-            return self.row({p: ca.SX(ca.DM(u / np.linalg.norm(u)))})
+        if kind == "slide":  # the slider's rate row, as its definition states it (symkin.constraints)
+            con = slider_constraint(self.mech, param.target[0])
+            return ca.vertcat(*[self.row({k: ca.vertcat(*[v / r.scale for v in vec]) for k, vec in r.blocks().items()})
+                                for r in con.rate_rows(Casadi(), self.nodes(), self.nodes0())])
         raise ValueError(f"unknown parameter kind {kind!r}")
 
     def twist_rows(self, link: str) -> ca.SX:

@@ -350,23 +350,37 @@ def _basis_rows(cm: CasadiModel, jf: ca.SX, effective: tuple[int, ...], rank: in
     return tuple(effective[i] for i in chosen)
 
 
+#: instructions above which a Function is built without common-subexpression elimination: CasADi's
+#: CSE pass grows faster than linearly with the graph (20 s of the 6-UPS joint form's 1.9 million
+#: instructions, for 1.3 % fewer of them); below it, CSE as always.  CSE merges identical
+#: operations only, so the values are the same bit for bit either way.
+CSE_LIMIT = 400_000
+
+
+def _function(name: str, ins: list, outs: list, in_names: list, out_names: list) -> ca.Function:
+    """``ca.Function`` with CSE when the graph has at most :data:`CSE_LIMIT` instructions."""
+    f = ca.Function(name, ins, outs, in_names, out_names)
+    if f.n_instructions() <= CSE_LIMIT:
+        f = ca.Function(name, ins, outs, in_names, out_names, {"cse": True})
+    return f
+
+
 def _functions(cm: CasadiModel, mobility: int, tol: float, kernel: bool = True):
     q, p = cm.q, cm.p
     free_cols = np.flatnonzero(cm.free).tolist()
     jf = cm.J[:, free_cols]
     dense = ca.densify
-    opts = {"cse": True}
     funcs = {}
     g_full = ca.mtimes(cm.J.T, cm.J)
-    funcs["G"] = ca.Function("G", [q], [dense(ca.mtimes(jf.T, jf)), dense(g_full)], ["q"], ["G", "G_full"], opts)
-    funcs["J"] = ca.Function("J", [q], [dense(cm.J), dense(jf)], ["q"], ["J", "J_free"], opts)
-    funcs["closure"] = ca.Function("closure", [q, p], [dense(cm.closure)], ["q", "p"], ["phi"], opts)
-    funcs["closure_jacobian"] = ca.Function(
+    funcs["G"] = _function("G", [q], [dense(ca.mtimes(jf.T, jf)), dense(g_full)], ["q"], ["G", "G_full"])
+    funcs["J"] = _function("J", [q], [dense(cm.J), dense(jf)], ["q"], ["J", "J_free"])
+    funcs["closure"] = _function("closure", [q, p], [dense(cm.closure)], ["q", "p"], ["phi"])
+    funcs["closure_jacobian"] = _function(
         "closure_jacobian", [q, p], [dense(cm.closure), dense(ca.jacobian(cm.closure, q))],
-        ["q", "p"], ["phi", "dphi_dq"], opts)
-    funcs["parameters"] = ca.Function(
+        ["q", "p"], ["phi", "dphi_dq"])
+    funcs["parameters"] = _function(
         "parameters", [q], [dense(cm.inputs), dense(cm.outputs), dense(cm.platform)],
-        ["q"], ["inputs", "outputs", "platform"], opts)
+        ["q"], ["inputs", "outputs", "platform"])
 
     effective = tuple(i for i in range(jf.shape[0])
                       if any(not jf[i, j].is_zero() for j in range(jf.shape[1])))
@@ -402,10 +416,10 @@ def _functions(cm: CasadiModel, mobility: int, tol: float, kernel: bool = True):
         gram = ca.mtimes(je, je.T)
         lam, ok = _im_kernel(gram, r0)
         outs = [lam, ok, ca.trace(gram), d_in, b_in, d_out, b_out]
-        funcs["indicators"] = ca.Function("indicators", [q], outs, ["q"], list(INDICATOR_NAMES), opts)
+        funcs["indicators"] = _function("indicators", [q], outs, ["q"], list(INDICATOR_NAMES))
         # the same over BATCH configurations (columns of q), a loop in the generated C
         funcs["indicators_batch"] = funcs["indicators"].map("indicators_batch", "serial", BATCH, [], [])
-        funcs["motion"] = ca.Function("motion", [q], [dense(vmat)], ["q"], ["V"], opts)
+        funcs["motion"] = _function("motion", [q], [dense(vmat)], ["q"], ["V"])
     return funcs, effective, basis_rows, fast
 
 

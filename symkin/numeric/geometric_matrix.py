@@ -20,8 +20,9 @@ sum, ``G = Σ a aᵀ = Jᵀ J`` (eqs. 2-3).  The rows are:
 Each kind is defined once, in :mod:`symkin.constraints` (the same definitions give the
 CasADi, sympy and polynomial forms); here the sliders and helical pairs are those
 definitions evaluated in floats, and the bars are the vectorised evaluation of
-:class:`symkin.constraints.Bar` (a test keeps them equal).  The out-of-hull rows of a
-degenerate body are written here (:mod:`symkin.constraints.body` says why).
+:class:`symkin.constraints.Bar` (a test keeps them equal); the out-of-hull rows of a
+degenerate body are :class:`symkin.constraints.Body` evaluated in floats (its decision, the
+hull and frame, taken at every configuration).
 
 Fixed nodes are boundary conditions: the analysis works on the *free* coordinates
 (the reduced matrix); :func:`geometric_matrix` with ``boundary=True`` returns the
@@ -35,7 +36,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from symkin.constraints import slider_constraints
+from symkin.constraints import body_constraints, slider_constraint, slider_constraints
+from symkin.constraints.body import affine_frame  # one definition (a degenerate body's frame)
 from symkin.constraints.algebra import FLOATS
 from symkin.errors import ModelError, Problem
 from symkin.model.joints import GROUND
@@ -233,75 +235,29 @@ def _moments_3d(rows) -> tuple[float, ...]:
     return xx, xy, xz, yy, yz, zz
 
 
-def _body_extra_rows(x: np.ndarray, idx: list[int], dim: int, ncoord: int, tol: float) -> list[np.ndarray]:
-    """Rows that make a degenerate (collinear / coplanar) body rigid out of its hull."""
-    pts = x[idx]
-    h, _, normals = affine_hull(pts, tol)
-    if h == dim or len(idx) <= h + 1:
-        return []
-    frame = affine_frame(pts, h)
-    base = pts[frame[0]]
-    edges = np.array([pts[k] - base for k in frame[1:]]).T  # (dim, h)
-    rows = []
-    for m in range(len(idx)):
-        if m in frame:
-            continue
-        coef, *_ = np.linalg.lstsq(edges, pts[m] - base, rcond=None)
-        weights = {frame[0]: 1.0 - coef.sum(), **{frame[k + 1]: coef[k] for k in range(h)}}
-        for n in normals:
-            row = np.zeros(ncoord)
-            row[dim * idx[m]: dim * idx[m] + dim] += n
-            for k, w in weights.items():
-                row[dim * idx[k]: dim * idx[k] + dim] -= w * n
-            rows.append(row)
-    return rows
-
-
-def affine_frame(pts: np.ndarray, h: int) -> list[int]:
-    """Indices of h+1 affinely independent points, chosen greedily for conditioning.
-
-    Near-ties (within a relative 1e-9) go to the lowest index, so that a symmetric body gets
-    the same frame at neighbouring configurations instead of one decided by rounding.
-    """
-    frame = [0]
-    for _ in range(h):
-        base = pts[frame[0]]
-        span = np.array([pts[k] - base for k in frame[1:]]).reshape(-1, pts.shape[1])
-        best, best_d = None, -1.0
-        for k in range(len(pts)):
-            if k in frame:
-                continue
-            d = pts[k] - base
-            if span.size:
-                q, _ = np.linalg.qr(span.T)
-                d = d - q @ (q.T @ d)
-            dist = float(np.linalg.norm(d))
-            # ties within rounding go to the lower index, so symmetric bodies get one frame
-            if best is None or dist > best_d * (1.0 + 1e-9):
-                best, best_d = k, dist
-        frame.append(best)
-    return frame
-
-
 def _slider_rows(mech: Mechanism, pl: _Plan, x: list) -> tuple[list[np.ndarray], list[str]]:
     """Rows and owners of the constraints after the links (sliders, helical pairs).
 
     Each is its definition in :mod:`symkin.constraints` evaluated in floats; ``x`` are
     the node coordinates (tuples of floats).
     """
-    dim, ncoord = pl.dim, pl.ncoord
     rows, owners = [], []
     for c in slider_constraints(mech):
         for r in c.rows(FLOATS, x, x):
-            row = np.zeros(ncoord)
-            inv = 1.0 / r.scale
-            for k, coef, vec in r.terms:
-                w = coef * inv
-                for a in range(dim):
-                    row[dim * k + a] += w * vec[a]
-            rows.append(row)
+            rows.append(_dense(r, pl.dim, pl.ncoord))
             owners.append(c.owner)
     return rows, owners
+
+
+def _dense(r, dim: int, ncoord: int) -> np.ndarray:
+    """A :class:`~symkin.constraints.Row` of floats as a dense row over all coordinates."""
+    row = np.zeros(ncoord)
+    inv = 1.0 / r.scale
+    for k, coef, vec in r.terms:
+        w = coef * inv
+        for a in range(dim):
+            row[dim * k + a] += w * vec[a]
+    return row
 
 
 def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None = None) -> ConstraintRows:
@@ -322,15 +278,14 @@ def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None 
     pts = [c for _, c in mech.nodes]
     bars = _bar_block(pl, pts)
     pieces, owners, start = [], [], 0
-    for name, idx, end in pl.bodies:
+    for (name, idx, end), body in zip(pl.bodies, body_constraints(mech)):
         if _certainly_full_hull([pts[k] for k in idx], tolerances.geometry):
             continue
-        if xyz is None:
-            xyz = _xyz(mech)
-        extra = _body_extra_rows(xyz, list(idx), pl.dim, pl.ncoord, tolerances.geometry)
+        x = pts if xyz is None else xyz  # the body's definition, evaluated in floats
+        extra = [_dense(r, pl.dim, pl.ncoord) for r in body.rows(FLOATS, x, x, tolerances.geometry)]
         if extra:
             pieces += [bars[start:end], np.array(extra)]
-            owners += list(pl.bar_owners[start:end]) + [f"link {name} (rigidity out of its hull)"] * len(extra)
+            owners += list(pl.bar_owners[start:end]) + [body.owner] * len(extra)
             start = end
     sliders, slider_owners = _slider_rows(mech, pl, pts) if (mech.sliders or mech.helicals) else ([], [])
     if not pieces and not sliders:
@@ -556,23 +511,11 @@ def parameter_rows(mech: Mechanism, param: Parameter, xyz: np.ndarray | None = N
         for r, c in enumerate(comps):
             rows[r, dim * i + c] = 1.0
         return rows
-    if kind == "slide":
-        s = mech.slider(param.target[0])
+    if kind == "slide":  # the slider's rate row, as its definition states it (symkin.constraints)
         x = _xyz(mech) if xyz is None else xyz
-        p = index[s.node]
-        row = np.zeros(ncoord)
-        if s.kind == "moving_line":
-            a, c = index[s.line[0]], index[s.line[1]]
-            e = x[c] - x[a]
-            le = np.linalg.norm(e)
-            u = e / le
-            t = float(np.dot(x[p] - x[a], u) / le)
-            for k, w in ((p, 1.0), (a, -(1.0 - t)), (c, -t)):
-                row[dim * k: dim * k + dim] += w * u
-        else:
-            u = np.array(s.direction, dtype=float)
-            row[dim * p: dim * p + dim] = u / np.linalg.norm(u)
-        return row[None, :]
+        pts = [tuple(map(float, c)) for c in x]
+        rows = slider_constraint(mech, param.target[0]).rate_rows(FLOATS, pts, pts)
+        return np.array([_dense(r, dim, ncoord) for r in rows])
     raise ValueError(f"unknown parameter kind {kind!r}")
 
 

@@ -10,6 +10,7 @@ import numpy as np
 from scipy.linalg import lapack
 
 from symkin.constraints.algebra import normal_basis  # one definition (the constraints' normals)
+from symkin.constraints.body import affine_hull  # one definition (a degenerate body's decision)
 
 __all__ = ["svd_factors", "singular_values", "svd_rank", "svd_null_space", "rank_and_null_space", "left_null_space", "rref",
            "normal_basis", "affine_hull", "independent_rows", "sparse_small_singular", "sparse_dependent_rows",
@@ -109,19 +110,6 @@ def rref(a: np.ndarray, tol: float) -> tuple[np.ndarray, list[int]]:
         row += 1
     r[np.abs(r) <= eps] = 0.0
     return r[: len(pivots)], pivots
-
-
-def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.ndarray]:
-    """Dimension ``h`` of the affine hull of ``points`` (k, d), its directions and normals.
-
-    Directions (h, d) and normals (d-h, d) are orthonormal rows; ``tol`` is relative to
-    the spread of the points.
-    """
-    centred = points - points.mean(axis=0)
-    _, s, vt = np.linalg.svd(centred, full_matrices=True)
-    scale = s[0] if s.size and s[0] > 0 else 1.0
-    h = int(np.count_nonzero(s > tol * scale))
-    return h, vt[:h], vt[h:]
 
 
 def independent_rows(a: np.ndarray, tol: float, count: int | None = None) -> tuple[int, ...]:

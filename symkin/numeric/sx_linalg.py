@@ -129,15 +129,17 @@ def givens_qr(cols: list[list[Any]], m: int, pairs: list | None = None) -> tuple
     follow one another without a division in between, and one reciprocal serves ``c`` and
     ``s``.  Two zero entries give the identity rotation.
     """
-    a = [row[:] for row in cols]
-    n, width = len(a), len(a[0]) if a else 0
+    n, width = len(cols), len(cols[0]) if cols else 0
+    # the rows as SX row vectors: a rotation updates two of them with whole-vector operations
+    # (entry by entry the operations of a scalar loop; a pair of zeros gives the zero it was)
+    rows = [ca.horzcat(*[ca.SX(x) for x in row]) if width else ca.SX(1, 0) for row in cols]
     rotations = []
     for k in range(m):
         for i in range(k + 1, n):
-            b = a[i][k]
+            b = rows[i][0, k]
             if _zero(b):
                 continue
-            top = a[k][k]
+            top = rows[k][0, k]
             if pairs is not None:
                 pairs.append((top, b))
             r = root(top * top + b * b)  # finite derivative where both entries vanish
@@ -146,14 +148,10 @@ def givens_qr(cols: list[list[Any]], m: int, pairs: list | None = None) -> tuple
             c = (top + zero) * inv
             s = b * inv
             rotations.append((k, i, c, s))
-            for j in range(k + 1, width):
-                akj, aij = a[k][j], a[i][j]
-                if _zero(akj) and _zero(aij):
-                    continue
-                a[k][j] = c * akj + s * aij
-                a[i][j] = c * aij - s * akj
-            a[k][k] = r
-            a[i][k] = ca.SX(0)
+            tk, ti = rows[k][0, k + 1:], rows[i][0, k + 1:]
+            rows[k] = ca.horzcat(rows[k][0, :k], r, c * tk + s * ti)
+            rows[i] = ca.horzcat(rows[i][0, :k], ca.SX(0), c * ti - s * tk)
+    a = [[row[0, j] for j in range(width)] for row in rows]
     return a, rotations
 
 
@@ -177,9 +175,11 @@ def householder_tridiagonal(sym: ca.SX) -> tuple[list[Any], list[Any]]:
     the same operations as a running sum, half the dependency depth in the generated C.
     """
     n = sym.shape[0]
-    a = [[sym[i, j] for j in range(n)] for i in range(n)]
+    m = ca.densify(sym)  # the trailing block still to reduce: rows and columns k..n-1
+    diag, off = [], []
     for k in range(n - 2):
-        x = [a[i][k] for i in range(k + 1, n)]
+        x = [m[i, 0] for i in range(1, n - k)]
+        diag.append(m[0, 0])
         nx = ca.sqrt(_pairwise_sum([xi * xi for xi in x]))
         s = ca.if_else(x[0] < 0, -1, 1)
         alpha = -s * nx
@@ -189,21 +189,53 @@ def householder_tridiagonal(sym: ca.SX) -> tuple[list[Any], list[Any]]:
         # values (every update is a product with v = 0) and a finite derivative (2 / 1e-300 has
         # the derivative -2e300 / 1e-300 = -inf, times 0: NaN)
         beta = 2 / ca.fmax(ca.if_else(vv == 0, 1, vv), 1e-300)
-        idx = list(range(k + 1, n))
-        size = len(idx)
-        p = [beta * _pairwise_sum([a[idx[r]][idx[t]] * v[t] for t in range(size)]) for r in range(size)]
+        block = m[1:, 1:]
+        size = n - k - 1
+        vc = ca.vertcat(*v)
+        # p = β·A v, each entry a pairwise sum over its row (the products a_rt·v_t, whole matrices at once)
+        p = [beta * t for t in _row_pairwise_sums(block * ca.repmat(vc.T, size, 1))]
         kk = beta / 2 * _pairwise_sum([v[r] * p[r] for r in range(size)])
         w = [p[r] - kk * v[r] for r in range(size)]
-        for r in range(size):
-            for t in range(r, size):
-                val = a[idx[r]][idx[t]] - v[r] * w[t] - w[r] * v[t]
-                a[idx[r]][idx[t]] = val
-                a[idx[t]][idx[r]] = val
-        a[k + 1][k] = alpha
-        a[k][k + 1] = alpha
-    diag = [a[i][i] for i in range(n)]
-    off = [a[i + 1][i] for i in range(n - 1)]
+        wc = ca.vertcat(*w)
+        # the rank-2 update a_rt − v_r w_t − w_r v_t of the upper triangle, mirrored to the lower one
+        upd = block - ca.mtimes(vc, wc.T) - ca.mtimes(wc, vc.T)
+        m = ca.densify(ca.triu(upd) + ca.triu(upd, False).T)
+        off.append(alpha)
+    diag += [m[i, i] for i in range(m.shape[0])]
+    off += [m[i + 1, i] for i in range(m.shape[0] - 1)]
     return diag, off
+
+
+def _row_pairwise_sums(prod: ca.SX) -> list:
+    """:func:`_pairwise_sum` of every row of the SX matrix ``prod``, as whole-matrix operations.
+
+    The constant zeros are dropped (:func:`casadi.sparsify`), each row's terms moved to its
+    first columns in column order, and the columns then added in pairs ``(0, 1), (2, 3), …``
+    level by level: a structural zero pads a row's odd term, and ``x + 0`` is ``x`` itself,
+    so every row gets the tree (and the values) of :func:`_pairwise_sum` of its terms.
+    """
+    size = prod.shape[0]
+    sparse = ca.sparsify(prod)
+    rows, cols = sparse.sparsity().get_triplet()
+    order = sorted(range(len(rows)), key=lambda e: (rows[e], cols[e]))
+    rank, seen = [0] * len(rows), {}
+    for e in order:
+        rank[e] = seen.get(rows[e], 0)
+        seen[rows[e]] = rank[e] + 1
+    width = max(seen.values(), default=0)
+    if width == 0:
+        return [ca.SX(0) for _ in range(size)]
+    perm = sorted(range(len(rows)), key=lambda e: (rank[e], rows[e]))  # column-major order of the packed matrix
+    packed = ca.SX(ca.Sparsity.triplet(size, width, [rows[e] for e in perm], [rank[e] for e in perm]),
+                   sparse.nz[perm])
+    while width > 1:
+        even = packed[:, list(range(0, width, 2))]
+        odd = packed[:, list(range(1, width, 2))]
+        if odd.shape[1] < even.shape[1]:
+            odd = ca.horzcat(odd, ca.SX(size, 1))
+        packed, width = even + odd, even.shape[1]
+    dense = ca.densify(packed)
+    return [dense[r, 0] for r in range(size)]
 
 
 def _pairwise_sum(terms: list):

@@ -39,7 +39,8 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import polynomial_constraints
+from symkin.constraints import bar_constraint, body_constraint, polynomial_constraints
+from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.numeric.coordinates import InputCoordinate, measuring_pair
@@ -127,11 +128,17 @@ def exact_dkp_system(mech: Mechanism, c: InputCoordinate) -> ExactDkpSystem:
         if ee == 0:
             raise SymkinError(f"{mech.name}: link {name} has all its nodes at one point: no exact frame")
         d = pos[j] - pos[i]
-        equations.append(sp.expand(d.dot(d) - ee))
+        # |x_j − x_i|² − ee: the Bar's distance polynomial, L² exact
+        bar = bar_constraint(mech, name, i, j)
+        equations.append(sp.expand(bar.polynomial(Sympy(squared_hook=lambda *_, ee=ee: ee),
+                                                  {bar.i: tuple(pos[i]), bar.j: tuple(pos[j])}, {bar.i: None, bar.j: None})))
         for k in ns:
-            if k not in (i, j):  # a rigid body's other node: an affine combination of the frame (2 linear equations)
+            if k not in (i, j):  # a rigid body's other node: the body's frame equations (2 linear equations)
                 w = x0[k] - x0[i]
-                equations += [sp.expand(q) for q in pos[k] - (pos[i] + (e.dot(w) / ee) * d + (perp(e).dot(w) / ee) * perp(d))]
+                body = body_constraint(mech, name)
+                at = dict(zip(body.names, body.idx))
+                equations += [sp.expand(q) for q in body.frame_equations(
+                    {at[n]: tuple(pos[n]) for n in ns}, [at[i], at[j]], at[k], (e.dot(w) / ee, perp(e).dot(w) / ee))]
     # substitute every linear equation (exactly), as the floating-point system does
     solution: dict = {}
     left = list(unknowns)

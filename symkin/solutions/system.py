@@ -42,7 +42,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints import SliderMovingLine, bar_constraint, body_constraint, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.joints import GROUND
@@ -228,27 +228,32 @@ def _bodies(b: SystemBuilder) -> None:
         if dim == 2 and rank == 2:
             frame = frame[:2]
         for a in range(len(frame)):
-            for c in range(a + 1, len(frame)):
+            for c in range(a + 1, len(frame)):  # |x_q − x_p|² − L²: the Bar's equation, L² in u
                 p, q = ns[frame[a]], ns[frame[c]]
-                d = b.node(q) - b.node(p)
-                b.add(owner, _dot(d, d) - float(np.sum((pts[frame[c]] - pts[frame[a]]) ** 2)))
-        x0 = b.node(ns[frame[0]])
-        e = [b.node(ns[f]) - x0 for f in frame[1:]]
+                square = float(np.sum((pts[frame[c]] - pts[frame[a]]) ** 2))
+                b.add(owner, _distance(b, name, p, q, square))
         e_model = [pts[f] - pts[frame[0]] for f in frame[1:]]
-        if dim == 2 and len(e) == 1 and rank >= 1:
-            e.append(sp.Matrix([-e[0][1], e[0][0]]))
+        if dim == 2 and len(e_model) == 1 and rank >= 1:
             e_model.append(np.array([-e_model[0][1], e_model[0][0]]))
-        elif dim == 3 and len(e) == 2:
-            e.append(e[0].cross(e[1]))
+        elif dim == 3 and len(e_model) == 2:
             e_model.append(np.cross(e_model[0], e_model[1]))
         basis = np.column_stack(e_model)
         for m, n in enumerate(ns):
             if m in frame:
                 continue
+            body = body_constraint(b.mech, name)  # x_m = x_f0 + Σ c_k b_k: the body's frame equations
+            X = {k: tuple(b.node(nn)) for k, nn in zip(body.idx, ns)}
             coef = np.linalg.lstsq(basis, pts[m] - pts[frame[0]], rcond=None)[0]
-            target = x0 + sum((float(w) * v for w, v in zip(coef, e)), sp.zeros(dim, 1))
-            for r in b.node(n) - target:
+            for r in body.frame_equations(X, [body.idx[f] for f in frame], body.idx[m], [float(w) for w in coef]):
                 b.add(owner, r)
+
+
+def _distance(b: SystemBuilder, link: str, p: str, q: str, square) -> sp.Expr:
+    """``|x_q − x_p|² − square`` in ``u``: the position equation of the :class:`~symkin.constraints.Bar`
+    of the pair (:meth:`~symkin.constraints.Bar.polynomial`), ``L² = square`` (dimensionless or exact)."""
+    bar = bar_constraint(b.mech, link, p, q)
+    X = {bar.i: tuple(b.node(p)), bar.j: tuple(b.node(q))}  # d = x_q − x_p (the equation is symmetric in the pair)
+    return bar.polynomial(Sympy(squared_hook=lambda *_: square), X, {bar.i: None, bar.j: None})
 
 
 def _sliders(b: SystemBuilder, skip: set) -> None:
@@ -338,19 +343,11 @@ def _values(b: SystemBuilder, prescribed, skip: set, reduce: bool = False) -> No
             axis = AXES.index(p.component) if p.component else c.component
             n = p.target[0]
             b.add(owner, b.node(n)[axis] - float(b.model(n)[axis]) - value / b.scale)
-        elif p.kind == "slide":
-            s = mech.slider(p.target[0])
-            x = b.node(s.node)
-            if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
-                a, cc = b.node(s.line[0]), b.node(s.line[1])
-                u0 = b.model(s.line[1]) - b.model(s.line[0])
-                along0 = float((b.model(s.node) - b.model(s.line[0])) @ u0 / np.linalg.norm(u0))
-                rho = along0 + value / b.scale
-                b.add(owner, _dot(x - a, cc - a) - rho * float(np.linalg.norm(u0)))
-            else:
-                d = np.array(s.direction, float)
-                d = d / np.linalg.norm(d)
-                b.add(owner, _dot([float(v) for v in d], x - sp.Matrix(b.model(s.node))) - value / b.scale)
+        elif p.kind == "slide":  # the slider's definition states its prescribed slide (in u)
+            con = slider_constraint(mech, p.target[0])
+            X = {k: tuple(b.node(n)) for k, n in enumerate(names) if k in con.nodes()}
+            X0 = {k: b.model(n) for k, n in enumerate(names) if k in con.nodes()}
+            b.add(owner, con.slide_polynomial(X, X0, value / b.scale))
         else:
             raise SymkinError(f"{c.label}: a {p.kind} value cannot be prescribed to solve the position problem")
 

@@ -67,7 +67,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import SliderMovingLine, polynomial_constraints, slider_constraint, slider_constraints
+from symkin.constraints import SliderMovingLine, bar_constraint, body_constraint, polynomial_constraints, slider_constraint, slider_constraints
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.kinds import LOCUS_KINDS, Kind
@@ -327,7 +327,7 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
             max(ns, key=lambda n: _dot(_sub(x0[n], x0[n0]), _sub(x0[n], x0[n0])))
         e, e0 = _sub(coord[n1], coord[n0]), _sub(x0[n1], x0[n0])
         frames[name] = (n0, n1, len(eqs))
-        eqs.append((_dot(e, e) - snap.squared_length(name, n0, n1), f"link {name} ({n0}-{n1})"))
+        eqs.append((_distance(mech, coord, snap, name, n0, n1), f"link {name} ({n0}-{n1})"))
         others = [n for n in ns if n not in (n0, n1)]
         if not others:
             continue
@@ -341,9 +341,8 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
                 basis, basis0 = [e], [e0]
             else:
                 f, f0 = _sub(coord[off], coord[n0]), _sub(x0[off], x0[n0])
-                eqs.append((_dot(f, f) - snap.squared_length(name, n0, off), f"link {name} ({n0}-{off})"))
-                g = _sub(coord[off], coord[n1])
-                eqs.append((_dot(g, g) - snap.squared_length(name, n1, off), f"link {name} ({n1}-{off})"))
+                eqs.append((_distance(mech, coord, snap, name, n0, off), f"link {name} ({n0}-{off})"))
+                eqs.append((_distance(mech, coord, snap, name, n1, off), f"link {name} ({n1}-{off})"))
                 basis, basis0 = [e, f, _cross3(e, f)], [e0, f0, c0]
                 others = [n for n in others if n != off]
         m0 = sp.Matrix([list(b) for b in basis0]).T
@@ -353,9 +352,10 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
             coef = [snap.number(float(v), f"coordinate {k + 1} of node {m} in the frame of {name}", frame)
                     for k, v in enumerate((m0.T * m0).LUsolve(m0.T * d0))]  # affine coordinates, snapped
             affine[(name, m)] = tuple(coef)
-            target = tuple(coord[n0][a] + sum(coef[k] * basis[k][a] for k in range(len(basis))) for a in range(dim))
-            for a in range(dim):
-                eqs.append((coord[m][a] - target[a], f"link {name} (node {m} in its frame)"))
+            body = body_constraint(mech, name)  # x_m = x_n0 + Σ c_k b_k: the body's frame equations
+            at = dict(zip(body.names, body.idx))
+            eqs += [(q, f"link {name} (node {m} in its frame)") for q in body.frame_equations(
+                {at[n]: coord[n] for n in ns}, [at[n0], at[n1]] + ([at[off]] if len(basis) == 3 else []), at[m], coef)]
     alg = Sympy(point_hook=lambda v, what: tuple(snap.number(c, f"coordinate {AXES[a]} of the {what}")
                                                    for a, c in enumerate(v)),
                 direction_hook=lambda v, what: _snapped_vector(snap, v, what))
@@ -365,6 +365,14 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
         eqs += [(eq.numerator, con.owner) for eq in con.equations(alg, X, X0)]
     eqs = [(sp.expand(e), o) for e, o in eqs if sp.expand(e) != 0]
     return _System(mech, coord, x0, eqs, frames, snap, affine)
+
+
+def _distance(mech: Mechanism, coord: dict, snap: ModelSnap, link: str, p: str, q: str) -> sp.Expr:
+    """``|x_q − x_p|² − L²``, ``L²`` snapped exactly: :meth:`symkin.constraints.Bar.polynomial`."""
+    bar = bar_constraint(mech, link, p, q)
+    alg = Sympy(squared_hook=lambda *_: snap.squared_length(link, p, q))
+    # d = x_q − x_p (the equation is symmetric in the pair): the expressions of the closure as they were
+    return bar.polynomial(alg, {bar.i: coord[p], bar.j: coord[q]}, {bar.i: None, bar.j: None})
 
 
 def _snapped_vector(snap: ModelSnap, vec, what: str) -> tuple:

@@ -23,7 +23,9 @@ Design parameters (lengths, internal angles ``beta``) are always symbols here; t
 (:mod:`symkin.symbolic.model`) substitutes their values unless design symbols were asked for.
 Structural decisions (which nodes of a body are degenerate, the frame of a degenerate body,
 the node pair that measures a planar link's rotation) are taken at the model's
-configuration exactly as the numeric core takes them.
+configuration exactly as the numeric core takes them.  In node coordinates every constraint
+row (bars, degenerate bodies, sliders, helical pairs) and a slide's rate row are the
+definitions of :mod:`symkin.constraints` evaluated in sympy.
 """
 from __future__ import annotations
 
@@ -33,12 +35,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from symkin.constraints import Body, SliderMovingLine, constraints_of, slider_constraints
+from symkin.constraints import (Body, SliderMovingLine, body_constraints, constraints_of, slider_constraint,
+                                slider_constraints)
 from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.model.joints import GROUND
 from symkin.model.mechanism import AXES, Mechanism, Parameter
-from symkin.numeric.geometric_matrix import affine_frame  # same frame choice as the numeric core
 from symkin.numeric.linalg import affine_hull
 from symkin.symbolic.symbols import (angle_symbol, coordinate_symbol, exact, exact_angle,
                                      length_symbol, offset_symbol, slide_symbol)
@@ -258,22 +260,32 @@ class RowBuilder:
         """
         if self.mode == "angles":
             return self._angle_rows()
-        alg = Sympy(const_hook=lambda v, what="": exact(v),
-                    length_hook=lambda link, a, b, d: self.length(link, a, b))
-        X = [self.coord[n] for n in self.mech.node_names]
-        X0 = [tuple(map(float, c)) for c in self.x]
+        alg = self._algebra()
+        X, X0 = self._positions()
         rows: list[SymRow] = []
         for con in constraints_of(self.mech):
-            if isinstance(con, Body):
-                rows += self._body_extra_rows(con.link, con.names)
-                continue
-            for r in con.rows(alg, X, X0):
-                merged: dict[int, list] = {}
-                for node, coef, vec in r.terms:
-                    merged.setdefault(node, []).append((coef, tuple(vec)))
-                blocks = tuple((n, tuple(t)) for n, t in sorted(merged.items()))
-                rows.append(SymRow(con.owner, con.element, blocks, r.scale))
+            extra = {"tol": self.tol.geometry} if isinstance(con, Body) else {}
+            rows += [self._sym_row(r, con.owner, con.element) for r in con.rows(alg, X, X0, **extra)]
         return rows
+
+    def _algebra(self) -> Sympy:
+        """The sympy algebra of the definitions: exact numbers, a design symbol per rigid pair's length."""
+        return Sympy(const_hook=lambda v, what="": exact(v),
+                     length_hook=lambda link, a, b, d: self.length(link, a, b))
+
+    def _positions(self) -> tuple[list, list]:
+        """``(X, X0)``: the nodes' coordinate symbols (None in angle coordinates, which have none: a
+        fixed line's rate row needs only its direction) and their model values (floats)."""
+        X = [self.coord[n] for n in self.mech.node_names] if self.mode == "nodes" else [None] * len(self.x)
+        return X, [tuple(map(float, c)) for c in self.x]
+
+    @staticmethod
+    def _sym_row(r, owner: str, element: str) -> SymRow:
+        """A definition's :class:`~symkin.constraints.Row` as a :class:`SymRow` (terms grouped by node)."""
+        merged: dict[int, list] = {}
+        for node, coef, vec in r.terms:
+            merged.setdefault(node, []).append((coef, tuple(vec)))
+        return SymRow(owner, element, tuple((n, tuple(t)) for n, t in sorted(merged.items())), r.scale)
 
     def _angle_rows(self) -> list[SymRow]:
         rows: list[SymRow] = []
@@ -291,45 +303,21 @@ class RowBuilder:
         return rows
 
     def _body_extra_rows(self, name: str, ns: tuple[str, ...]) -> list[SymRow]:
-        pts = np.array([self.x[self.index[n]] for n in ns])
-        h, _, _ = affine_hull(pts, self.tol.geometry)
-        if h == self.dim or len(ns) <= h + 1:
+        """Angle coordinates: a degenerate (collinear) planar body's rows over its angle (node
+        coordinates: :class:`~symkin.constraints.Body`), with its decision (hull, frame)."""
+        body = next(b for b in body_constraints(self.mech) if b.link == name)
+        hull = body.hull(self.x, self.tol.geometry)
+        if hull is None:
             return []
-        frame = [ns[k] for k in affine_frame(pts, h)]
-        owner = f"link {name} (rigidity out of its hull)"
+        f0, f1 = (ns[k] for k in hull.frame)
+        owner = body.owner
+        alpha = self.angle(name, f0, f1)
+        normal = (-sp.sin(alpha), sp.cos(alpha))
+        e = self._delta_num(f0, f1)
         rows = []
-        others = [n for n in ns if n not in frame]
-        if h == 1:
-            f0, f1 = frame
-            if self.mode == "angles":
-                alpha = self.angle(name, f0, f1)
-                normal = (-sp.sin(alpha), sp.cos(alpha))
-                e = self._delta_num(f0, f1)
-                for m in others:
-                    t = exact(float(np.dot(self._delta_num(f0, m), e) / np.dot(e, e)))
-                    rows.append(self._weighted_row(owner, name, normal, sp.Integer(1),
-                                                   {m: 1, f0: -(1 - t), f1: -t}))
-                return rows
-            e = self._delta_sym(f0, f1)
-            ll = self.length(name, f0, f1)
-            normals = self._normals(e, self._delta_num(f0, f1), ll)
-            for m in others:
-                t_num = _dot(self._delta_sym(f0, m), e)
-                for n_vec, n_norm in normals:
-                    rows.append(self._weighted_row(owner, name, n_vec, ll ** 2 * n_norm,
-                                                   {m: ll ** 2, f0: -(ll ** 2 - t_num), f1: -t_num}))
-            return rows
-        # h == 2 in space: coplanar body of 4+ nodes
-        f0, f1, f2 = frame
-        e1, e2 = self._delta_sym(f0, f1), self._delta_sym(f0, f2)
-        n = _cross(e1, e2)
-        big_d = _dot(n, n)
-        for m in others:
-            d = self._delta_sym(f0, m)
-            c1 = _dot(e2, e2) * _dot(e1, d) - _dot(e1, e2) * _dot(e2, d)
-            c2 = _dot(e1, e1) * _dot(e2, d) - _dot(e1, e2) * _dot(e1, d)
-            rows.append(self._weighted_row(owner, name, n, big_d * sp.sqrt(big_d),
-                                           {m: big_d, f0: -(big_d - c1 - c2), f1: -c1, f2: -c2}))
+        for m in (n for n in ns if n not in (f0, f1)):
+            t = exact(float(np.dot(self._delta_num(f0, m), e) / np.dot(e, e)))
+            rows.append(self._weighted_row(owner, name, normal, sp.Integer(1), {m: 1, f0: -(1 - t), f1: -t}))
         return rows
 
     def _weighted_row(self, owner, element, vec, scale, weights: dict[str, sp.Expr]) -> SymRow:
@@ -460,22 +448,15 @@ class RowBuilder:
             return [SymRow(lab, param.target[0], ((node, ((sp.Integer(1), _unit(c, dim)),)),), sp.Integer(1))
                     for c, lab in zip(comps, labels)]
         if kind == "slide":
-            s = self.mech.slider(param.target[0])
-            p = s.node
-            if s.kind == "moving_line":
-                a, c = s.line
+            con = slider_constraint(self.mech, param.target[0])
+            if self.mode == "angles" and isinstance(con, SliderMovingLine):  # over the link's angle and the slide
+                s = con.slider
+                p, (a, c) = s.node, s.line
                 ll = self.length(s.link, a, c)
-                if self.mode == "angles":
-                    alpha = self.angle(s.link, a, c)
-                    u = (sp.cos(alpha), sp.sin(alpha))
-                    sv = slide_symbol(s.id)
-                    return [self._weighted_row(labels[0], s.id, u, ll, {p: ll, a: -(ll - sv), c: -sv})]
-                e = self._delta_sym(a, c)
-                t_num = _dot(self._delta_sym(a, p), e)
-                return [self._weighted_row(labels[0], s.id, e, ll ** 3,
-                                           {p: ll ** 2, a: -(ll ** 2 - t_num), c: -t_num})]
-            if s.direction is None:
-                raise SymkinError(f"slider {s.id} lies on a plane: a 'slide' rate needs a line")
-            u = tuple(exact(v) for v in s.direction)
-            return [self._weighted_row(labels[0], s.id, u, sp.sqrt(_dot(u, u)), {p: 1})]
+                alpha = self.angle(s.link, a, c)
+                u = (sp.cos(alpha), sp.sin(alpha))
+                sv = slide_symbol(s.id)
+                return [self._weighted_row(labels[0], s.id, u, ll, {p: ll, a: -(ll - sv), c: -sv})]
+            # the slider's rate row, as its definition states it (symkin.constraints)
+            return [self._sym_row(r, labels[0], con.slider.id) for r in con.rate_rows(self._algebra(), *self._positions())]
         raise SymkinError(f"unknown parameter kind {kind!r}")
