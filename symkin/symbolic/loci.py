@@ -72,7 +72,7 @@ from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.kinds import LOCUS_KINDS, Kind
 from symkin.kinds import latex as latex_name
-from symkin.model.labels import CoordinateLabel, parse_hold, parse_label
+from symkin.model.labels import CoordinateLabel, OrientationLabel, parse_holds, parse_label, parse_orientation_label
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.symbolic.conditions import DerivationTimeout
@@ -928,9 +928,9 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
         raise SymkinError(f"unknown locus kind(s) {', '.join(unknown)}; use {', '.join(KINDS)}")
     tol = Tolerances.of(tolerances)
     coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in variables]
-    pairs = [parse_hold(h) if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1]))
-             for h in hold]
-    held = [parse_label(mech, label, "coordinate", _LOCUS_LABELS) for label, _ in pairs]
+    pairs = parse_holds(hold)
+    held = [parse_orientation_label(mech, label) or parse_label(mech, label, "coordinate", _LOCUS_LABELS)
+            for label, _ in pairs]
     labels = [c.label for c in coords + held]
     twice = sorted({lab for lab in labels if labels.count(lab) > 1})
     if twice:
@@ -944,6 +944,10 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
     if len(held) != f - 2:
         raise SymkinError(f"{mech.name}: F = {f}, so two variables need {f - 2} held coordinate(s) (--hold LABEL); "
                           f"{len(held)} given")
+    if any(isinstance(h, OrientationLabel) for h in held):
+        from symkin.symbolic.pose_loci import pose_slice
+        ps = pose_slice(mech, coords, [(h, v) for h, (_, v) in zip(held, pairs)], UNITS[unit])
+        return _pose_loci(mech, ps, coords, held, kinds, time_limit, tol)
     sys = _build(mech, snap_model(mech, tol))
     xs = tuple(_variable_symbol(mech, c) for c in coords)
     extra = []
@@ -981,6 +985,66 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
         loci.append(locus)
     return Loci(xs, tuple(c.label for c in coords), tuple(c.label for c in held), tuple(loci), tuple(skipped),
                 mech.name, sys.snap)
+
+
+def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
+    """The loci of a spatial platform at a held orientation (:mod:`symkin.symbolic.pose_loci`)."""
+    from symkin.symbolic.model import symbolic_model
+    from symkin.symbolic.pose_loci import pose_condition
+
+    xs = ps.variables
+    face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
+    snap = snap_model(mech, tol)
+    sys = _System(mech, {}, face, [], {}, snap)
+    sm = symbolic_model(mech, coordinates="nodes")
+    loci: list[Locus] = []
+    skipped: list[str] = []
+    for kind in [k for k in KINDS if k in kinds]:
+        t0 = time.perf_counter()
+        if kind == Kind.IM:
+            loci.append(Locus(kind, (), (), time.perf_counter() - t0,
+                              "no curve: every configuration of the slice is placed by the pose, each leg node in "
+                              "closed form where its leg has a length (|C - A| > 0), and moves with the platform's "
+                              "six twists: L = F on the slice"))
+            continue
+        try:
+            with _limit(kind, time_limit) as limit:
+                det, contents = pose_condition(sm, ps, kind)
+                _poll(limit)
+                if det == 0:
+                    loci.append(Locus(kind, (), (), time.perf_counter() - t0,
+                                      "the condition holds on the whole slice", True))
+                    continue
+                total = sp.Mul(det, *contents)
+                geometric, trivial = (_with_normalised(fs, xs) for fs in _factors(total, xs, sys))
+        except DerivationTimeout as exc:
+            skipped.append(str(exc) if "locus" in str(exc) else f"{kind} locus: {exc}")
+            continue
+        except (LociError, SymkinError) as exc:
+            skipped.append(f"{kind} locus: {exc}")
+            continue
+        which = kind.split("-")[1]
+        note = (f"det(P V) = 0: the {which} rows over the platform's twist at {ps.node} (orientation of "
+                f"{ps.link} held), each leg placed in closed form; zero where a motion is left with the "
+                f"{which}s locked")
+        loci.append(Locus(kind, tuple(geometric), tuple(trivial), time.perf_counter() - t0, note))
+    return Loci(xs, tuple(c.label for c in coords), tuple(h.label for h in held), tuple(loci), tuple(skipped),
+                mech.name, None)
+
+
+def _with_normalised(factors: list, xs) -> list:
+    """Factors whose integer coefficients are long get their monic form (6 digits) in the meaning."""
+    out = []
+    for f in factors:
+        p = sp.Poly(f.polynomial, *xs)
+        if max(len(str(abs(c))) for c in p.coeffs()) > 12:
+            lc = max(p.coeffs(), key=abs)
+            text = " + ".join(f"{float(c / lc):.6g}*{sp.sstr(sp.Mul(*[g ** k for g, k in zip(xs, m)]))}"
+                              for m, c in p.terms()).replace("*1 ", " ").replace("+ -", "- ")
+            text = text[:-2] if text.endswith("*1") else text
+            f = LocusFactor(f.polynomial, f.degree, f"{f.meaning}; normalised: {text}", f.exponent, f.trivial)
+        out.append(f)
+    return out
 
 
 def _check_square(sys, equations, symbols, coords, held, tol: Tolerances) -> None:

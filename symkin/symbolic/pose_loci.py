@@ -1,0 +1,272 @@
+"""Singularity loci of a spatial platform at a held orientation, in its pose coordinates (issue 17 §5).
+
+``symkin conditions MODEL --in velocity:O.x,velocity:O.y --hold velocity:O.z --hold
+'rotation:platform[x]' --hold 'rotation:platform[y]' --hold 'rotation:platform[z]'`` (O a node
+of the platform link): the holds enter the velocity problem *before* any determinant is
+formed.  The configuration is written in the platform's pose: ``O = (x, y, z_h)`` and every
+platform node ``X_n = O + R_h (X_n⁰ − O⁰)`` (``R_h`` the held rotation from the model's
+orientation, the rotation vector of :class:`symkin.model.labels.OrientationLabel`), so each
+is linear in ``(x, y)``.  The motion space is parametrised by the platform's twist
+``(v, ω)`` at O: a platform node moves with ``v + ω × (X_n − O)``.  A leg node that is not on
+the platform — the far end ``D`` of a bar ``A-D`` from a fixed joint ``A`` that carries the
+line of a slider whose node ``C`` is on the platform (a prismatic leg) — is
+``D = A + λ (C − A)`` with ``λ² |C − A|² = l²``, and moves with
+``λ (Ċ − u (u·Ċ)/(u·u))``, ``u = C − A``.  These columns ``V`` span the motion space.
+
+The DKP condition of the inputs (type 2) is then ``det(P V) = 0``, ``P`` the model's input
+rows over the nodal velocities (the one definition, :mod:`symkin.symbolic.rows`): a 6 × 6
+determinant whose rows are polynomials in ``(x, y)`` once ``λ`` is reduced with its
+relation (``λ²`` → ``l²/(u·u)``) and each row's content (a product of nonzero factors such
+as ``u·u`` and ``λ``) is taken out; the contents' factors are kept as factors of the locus
+(a trivial one has no real point).  For a Gough–Stewart platform the rows are the legs'
+Plücker lines ``(u_k, (C_k − O) × u_k)`` and the locus is the cubic of Mayer St-Onge &
+Gosselin (2000) for a general 6-6, a conic when the base joints are coplanar (the plane of
+constant height parallel to theirs).  The DKP condition of the outputs is ``det(P_out V)``
+likewise.  The IM locus is not derived on this route (``V`` has full rank wherever the pose
+places the mechanism; an IM configuration needs ``|C − A| = 0``).
+
+The numbers are the model's as written (exact rationals of its floats, no snapping): the
+locus does not rest on rational relations between them, and it equals the float model's
+locus exactly.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from symkin.errors import SymkinError
+from symkin.kinds import Kind
+from symkin.model.labels import CoordinateLabel, OrientationLabel, parse_label
+from symkin.model.mechanism import AXES, Mechanism
+from symkin.symbolic.symbols import coordinate_symbol, length_symbol
+
+__all__ = ["PoseSlice", "pose_slice", "pose_rows", "pose_condition"]
+
+
+def _q(v: float) -> sp.Rational:
+    return sp.Rational(repr(float(v)))
+
+
+def _rotation(vector) -> list[list[float]]:
+    """Rodrigues: the rotation matrix of the rotation vector ``θ·n`` (radians)."""
+    th = math.sqrt(sum(c * c for c in vector))
+    if th == 0.0:
+        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    n = [c / th for c in vector]
+    k = [[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]]
+    kk = [[sum(k[i][m] * k[m][j] for m in range(3)) for j in range(3)] for i in range(3)]
+    s, c = math.sin(th), 1.0 - math.cos(th)
+    return [[(1.0 if i == j else 0.0) + s * k[i][j] + c * kk[i][j] for j in range(3)] for i in range(3)]
+
+
+class PoseSlice:
+    """The slice of a spatial mechanism at a held platform orientation and height, in its pose.
+
+    Attributes: ``link`` (the platform), ``node`` (O, whose coordinates are the variables and
+    the held one), ``variables`` (the two symbols ``x_O``, ``y_O``), ``position`` (node → its
+    exact position, polynomials in the variables and the leg symbols ``lam_<node>``),
+    ``velocity`` (node → 3 × 6 matrix: its velocity over the platform twist ``(v, ω)`` at O, with
+    the denominators ``den`` of leg nodes), ``relations`` (``lam`` → ``(l², u·u)``).
+    """
+
+    def __init__(self, mech: Mechanism, link: str, node: str, coords: list[CoordinateLabel],
+                 height: CoordinateLabel, height_value, rotation_vector):
+        self.mech, self.link, self.node = mech, link, node
+        face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
+        self.face = face
+        self.variables = tuple(coordinate_symbol(AXES[c.axis], node) for c in coords)
+        o = list(face[node])
+        for c, s in zip(coords, self.variables):
+            o[c.axis] = s
+        o[height.axis] = face[node][height.axis] if height_value is None else _q(height_value)
+        rot = _rotation(rotation_vector)
+        turned = any(v != 0.0 for v in rotation_vector)
+        platform = set(mech.link_nodes(link))
+        self.position: dict = {}
+        self.velocity: dict = {}
+        self.den: dict = {}
+        self.relations: dict = {}
+        for n in mech.fixed:
+            self.position[n] = sp.Matrix(face[n])
+        for n in platform:
+            d0 = [face[n][a] - face[node][a] for a in range(3)]
+            if turned:
+                d0 = [_q(sum(rot[a][b] * float(d0[b]) for b in range(3))) for a in range(3)]
+            d = sp.Matrix(d0)
+            self.position[n] = sp.Matrix(o) + d
+            skew = sp.Matrix([[0, d[2], -d[1]], [-d[2], 0, d[0]], [d[1], -d[0], 0]])  # ω × d = −[d]× ω
+            self.velocity[n] = sp.Matrix.hstack(sp.eye(3), skew)
+            self.den[n] = sp.Integer(1)
+        for n in mech.free_nodes:
+            if n in platform:
+                continue
+            self._leg_node(n, face)
+
+    def _leg_node(self, n: str, face) -> None:
+        """``D = A + λ (C − A)``: the end of a bar from a fixed joint carrying a slider's line to the platform."""
+        mech = self.mech
+        fixed = set(mech.fixed)
+        for s in mech.sliders:
+            if s.line is None or n not in s.line or s.node not in self.velocity:
+                continue
+            a = s.line[0] if s.line[1] == n else s.line[1]
+            if a not in fixed:
+                continue
+            bar = [name for name, ns in mech.links if set(ns) == {a, n}]
+            if not bar:
+                continue
+            e0 = [face[n][k] - face[a][k] for k in range(3)]
+            l2 = sum(c * c for c in e0)
+            lam = sp.Symbol(f"lam_{n}", positive=True)
+            pa, pc = self.position[a], self.position[s.node]
+            u = pc - pa
+            uu = sp.expand(u.dot(u))
+            self.position[n] = pa + lam * u
+            vc = self.velocity[s.node]  # Ċ over the twist
+            # Ḋ·(u·u) = λ ((u·u) Ċ − u (u·Ċ)): D keeps its distance l from A on the line A-C
+            self.velocity[n] = (lam * (uu * vc - u * (u.T * vc))).applyfunc(sp.expand)
+            self.den[n] = uu
+            self.relations[lam] = (l2, uu, bar[0])
+            return
+        raise SymkinError(f"node {n} is neither on the platform {self.link!r} nor the end of a bar from a fixed "
+                          "joint that carries a slider's line to the platform: the pose route places legs of "
+                          "prismatic (SPS, UPS) type only")
+
+    def substitutions(self) -> dict:
+        """Node coordinate symbols → their expressions in the pose."""
+        out = {}
+        for n, p in self.position.items():
+            for a in range(3):
+                out[coordinate_symbol(AXES[a], n)] = p[a]
+        return out
+
+
+def pose_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: list, unit_factor: float) -> PoseSlice | None:
+    """The pose slice named by ``coords`` (two labels) and ``holds`` (``(label object, value)``), or
+    None when the holds do not hold a spatial link's whole orientation.
+
+    ``holds`` pairs a :class:`CoordinateLabel` or :class:`OrientationLabel` with its value in the
+    user's unit (None: the model's).  The variables must be two coordinates of one node O of the
+    held link; the third held.
+    """
+    orient = [(h, v) for h, v in holds if isinstance(h, OrientationLabel)]
+    if mech.dim != 3 or not orient:
+        return None
+    links = {h.link for h, _ in orient}
+    if len(links) != 1 or sorted(h.axis for h, _ in orient) != [0, 1, 2]:
+        raise SymkinError("a locus at constant orientation holds all three components rotation:<link>[x], "
+                          "rotation:<link>[y], rotation:<link>[z] of one link; got "
+                          + ", ".join(h.label for h, _ in orient))
+    link = links.pop()
+    others = [(h, v) for h, v in holds if not isinstance(h, OrientationLabel)]
+    nodes = {c.parameter.target[0] for c in coords if c.parameter.kind == "velocity"}
+    if len(nodes) != 1 or len(coords) != 2 or any(c.parameter.kind != "velocity" for c in coords):
+        raise SymkinError(f"at a held orientation of {link!r} the two variables are coordinates of one of its "
+                          "nodes (velocity:O.x,velocity:O.y)")
+    node = nodes.pop()
+    if node not in mech.link_nodes(link):
+        raise SymkinError(f"node {node} is not a node of the held link {link!r}")
+    third = [(c, v) for c, v in others if c.parameter.kind == "velocity" and c.parameter.target[0] == node
+             and c.axis not in {k.axis for k in coords}]
+    if len(others) != 1 or len(third) != 1:
+        raise SymkinError(f"at a held orientation of {link!r} the holds are its three orientation components and "
+                          f"the third coordinate of {node} (e.g. velocity:{node}.z); got "
+                          + ", ".join(h.label for h, _ in holds))
+    height, hv = third[0]
+    vec = [0.0, 0.0, 0.0]
+    for h, v in orient:
+        vec[h.axis] = 0.0 if v is None else float(v) * unit_factor
+    return PoseSlice(mech, link, node, coords, height, hv, vec)
+
+
+def _reduce_lambda(entries: list, relations: dict) -> list:
+    """``λ² → l²/(u·u)`` in a row (the same power of ``u·u`` multiplies every entry); an odd power
+    common to the row is taken out."""
+    for lam, (l2, uu, _) in relations.items():
+        if not any(e.has(lam) for e in entries):
+            continue
+        polys = [sp.Poly(e, lam) for e in entries]
+        top = max(p.degree() // 2 for p in polys)
+        out, odd = [], set()
+        for p in polys:
+            acc = sp.Integer(0)
+            for (k,), c in p.terms():
+                m, r = divmod(k, 2)
+                acc += c * lam ** r * l2 ** m * uu ** (top - m)
+                if c != 0:
+                    odd.add(r)
+            out.append(sp.expand(acc))
+        if odd == {1}:
+            out = [sp.expand(e / lam) for e in out]
+        elif odd == {0, 1}:
+            raise SymkinError(f"a row mixes even and odd powers of {lam}: the pose route cannot reduce it")
+        entries = out
+    return entries
+
+
+def pose_rows(sm, ps: PoseSlice, params) -> tuple[list[list[sp.Expr]], list[sp.Expr]]:
+    """The rows of ``params`` over the platform twist, ``P V``, as polynomials in the variables.
+
+    Returns ``(rows, contents)``: each row divided by its content (the gcd of its entries, a
+    nonzero factor wherever the row is defined, kept in ``contents`` to be factored).
+    """
+    subs = ps.substitutions()
+    lengths = {length_symbol(name): sp.sqrt(sum((ps.face[ns[1]][a] - ps.face[ns[0]][a]) ** 2 for a in range(3)))
+               for name, ns in ps.mech.links}
+    names = ps.mech.node_names
+    rows, contents = [], []
+    for r in sm.parameter_rows(params):
+        acc = sp.zeros(1, 6)
+        dens = []
+        blocks = r.block_vectors()
+        for k, vec in blocks.items():
+            n = names[k]
+            if n not in ps.velocity:
+                continue
+            dens.append(ps.den[n])
+        common = sp.Mul(*dens)
+        for k, vec in blocks.items():
+            n = names[k]
+            if n not in ps.velocity:
+                continue
+            v = sp.Matrix([[sp.sympify(c).xreplace(lengths) for c in vec]]).xreplace(subs)
+            acc += v * ps.velocity[n] * sp.cancel(common / ps.den[n])
+        entries = [sp.expand(sm.substitute_design(e)) for e in acc]
+        extra = set().union(*[e.free_symbols for e in entries]) - set(ps.variables) - set(ps.relations)
+        if extra:
+            raise SymkinError(f"row {r.owner}: symbols {', '.join(sorted(map(str, extra)))} left in the pose")
+        entries = _reduce_lambda(entries, ps.relations)
+        gens = ps.variables
+        polys = [sp.Poly(e, *gens, domain="QQ") for e in entries]
+        nonzero = [p for p in polys if not p.is_zero]
+        if not nonzero:
+            rows.append([sp.Integer(0)] * 6)
+            contents.append(sp.Integer(1))
+            continue
+        g = nonzero[0]
+        for p in nonzero[1:]:
+            g = g.gcd(p)
+        rows.append([p.exquo(g).as_expr() if not p.is_zero else sp.Integer(0) for p in polys])
+        contents.append(g.as_expr())
+    return rows, contents
+
+
+def pose_condition(sm, ps: PoseSlice, kind: str) -> tuple[sp.Expr, list[sp.Expr]]:
+    """``det(P V)`` of the inputs (``DKP-input``) or outputs (``DKP-output``) over the twist:
+    ``(determinant of the reduced rows, the rows' contents)``, polynomials in the variables."""
+    mech = ps.mech
+    params = mech.inputs if kind == Kind.DKP_INPUT else mech.outputs
+    rows, contents = pose_rows(sm, ps, params)
+    if len(rows) != 6:
+        raise SymkinError(f"{kind}: {len(rows)} rows over the platform's 6 twist components; the pose route "
+                          "forms a square determinant only")
+    gens = ps.variables
+    dom = sp.QQ[gens]
+    m = DomainMatrix([[dom.from_sympy(sp.sympify(e)) for e in row] for row in rows], (6, 6), dom)
+    t0 = time.perf_counter()
+    det = dom.to_sympy(m.det())
+    del t0
+    return sp.expand(det), contents
