@@ -218,7 +218,7 @@ def pose_rows(sm, ps: PoseSlice, params) -> tuple[list[list[sp.Expr]], list[sp.E
                for name, ns in ps.mech.links}
     names = ps.mech.node_names
     rows, contents = [], []
-    for r in sm.parameter_rows(params):
+    for r in sm.parameter_symrows(params):
         acc = sp.zeros(1, 6)
         dens = []
         blocks = r.block_vectors()
