@@ -50,6 +50,7 @@ from symkin.analysis.batch import evaluators_for
 from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
+from symkin.kinds import Kind
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import estimate_seconds, require_solver, square_up, total_degree, track
 from symkin.solutions.progress import as_progress, format_seconds
@@ -177,19 +178,38 @@ def _newton(f, jac, u: np.ndarray, max_iterations: int = 30) -> tuple[np.ndarray
     return c.z, c.residual
 
 
+def _jacobian(eqs: list, unknowns: list) -> sp.Matrix:
+    """``∂eqs/∂unknowns``: each equation as a polynomial in the unknowns it contains, differentiated
+    as such (a Gough–Stewart's 39 × 39 in 0.4 s, where ``Matrix.jacobian`` takes 1.3-3 s of
+    sympy's expression derivatives on its 1,521 entries)."""
+    index = {s: k for k, s in enumerate(unknowns)}
+    entries = {}
+    for i, e in enumerate(eqs):
+        gens = [s for s in unknowns if s in e.free_symbols]
+        if not gens:
+            continue
+        try:
+            p = sp.Poly(e, *gens)
+        except sp.PolynomialError:  # not polynomial in them: sympy's derivative
+            entries.update({(i, index[s]): e.diff(s) for s in gens})
+            continue
+        entries.update({(i, index[s]): p.diff(s).as_expr() for s in gens})
+    return sp.Matrix(sp.SparseMatrix(len(eqs), len(unknowns), entries))
+
+
 class _Checks:
     """Newton, filters and the prescribed values, compiled once per system."""
 
     def __init__(self, system: PolynomialSystem, prescribed):
         u = list(system.unknowns)
         eqs = [e for _, e in system.equations]
-        f = sp.lambdify([u], eqs, "numpy")
-        j = sp.lambdify([u], sp.Matrix(eqs).jacobian(u), "numpy")
+        f = sp.lambdify([u], eqs, "numpy", docstring_limit=0)  # no docstring: a third of the time on 39 equations
+        j = sp.lambdify([u], _jacobian(eqs, u), "numpy", docstring_limit=0)
         self.f = lambda v: np.array(f(v), float).ravel()
         self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
         self.fc = lambda v: np.array(f(v), complex).ravel()
         self.jc = lambda v: np.array(j(v), complex).reshape(len(eqs), len(u))
-        self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy")
+        self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy", docstring_limit=0)
         self.filters_c = lambda v: np.array(self.filters(v), complex)
         self.prescribed = prescribed
         self.system = system
@@ -571,7 +591,12 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
     if not coords:
         return []
     q = np.array([[c[n][a] for n in mech.free_nodes for a in range(mech.dim)] for c in coords])
-    result = ev.batch(q, tol=tol)
+    analyses = None
+    if do_analyze or (len(coords) <= ANALYZE_BELOW and not _kernel_ready(ev)):
+        # a few solutions: the NumPy core decides each (the one definition, symkin.analysis.indicators,
+        # which the batch kernel shares): no seconds of building the kernel of a large model per query
+        analyses = [_analyze(mech.with_coordinates(c), tol=tol) for c in coords]
+    result = ev.batch(q, tol=tol) if analyses is None else None
     out = []
     scale = checks.system.scale
     for k, c in enumerate(coords):
@@ -580,8 +605,29 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
         err = checks.value_error(c)
         if err > VERIFY or closure > VERIFY:
             continue  # counted as unverified by the caller
-        signs = {"dkp_input": _sign(float(result.dkp_input[k]), bool(result.is_dkp_input[k])),
-                 "dkp_output": _sign(float(result.dkp_output[k]), bool(result.is_dkp_output[k]))}
-        analysis = _analyze(mech.with_coordinates(c), tol=tol) if do_analyze else None
-        out.append(Solution(c, signs, float(residuals[k]), closure, result.types(k), counts[k], analysis))
+        if analyses is None:
+            signs = {"dkp_input": _sign(float(result.dkp_input[k]), bool(result.is_dkp_input[k])),
+                     "dkp_output": _sign(float(result.dkp_output[k]), bool(result.is_dkp_output[k]))}
+            types = result.types(k)
+        else:
+            a = analyses[k]
+            signs = {"dkp_input": _sign(_value(a.dkp_input), Kind.DKP_INPUT in a.types),
+                     "dkp_output": _sign(_value(a.dkp_output), Kind.DKP_OUTPUT in a.types)}
+            types = tuple(k for k in (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT) if k in a.types)  # the batch's
+        out.append(Solution(c, signs, float(residuals[k]), closure, types, counts[k],
+                            analyses[k] if do_analyze else None))
     return out
+
+
+#: at most this many real solutions are labelled by :func:`symkin.analyze` one by one when the
+#: evaluators' batch kernel is not built yet (building it takes seconds on a large model)
+ANALYZE_BELOW = 16
+
+
+def _kernel_ready(ev) -> bool:
+    """Whether the evaluators' batch kernel is built (its lazy builder has run or was never needed)."""
+    return getattr(ev.functions, "_build", None) is None
+
+
+def _value(v) -> float:
+    return math.nan if v is None else float(v)
