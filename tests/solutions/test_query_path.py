@@ -1,0 +1,68 @@
+"""The faster later query of ``symkin modes`` (issue 17) gives the same answers as the slow one.
+
+Two shortcuts of :mod:`symkin.solutions.solve_all` are checked against what they replace: the
+checks' Jacobian built equation by equation from polynomials (against sympy's
+``Matrix.jacobian``), and the labelling of a few real solutions by the NumPy core
+(``symkin.analyze``) when the evaluators' batch kernel is not built (against the batch kernel's
+signs and types).  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
+"""
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from symkin.model import catalogue
+from symkin.model.model_file import read_model
+from symkin.solutions.system import original_equations
+from symkin.tolerances import Tolerances
+
+solve_all_module = importlib.import_module("symkin.solutions.solve_all")
+GS66 = Path(__file__).resolve().parent / "models" / "gough_stewart_66.toml"
+
+
+@pytest.mark.parametrize("mech, values, unit", [
+    (read_model(GS66), {f"slide:s{k}": 0.01 * k for k in range(1, 7)}, "rad"),
+    (catalogue.get("rrr_3"), {"velocity:C1.x": 0.05, "velocity:C1.y": -0.05, "rotation:platform": 5}, "deg"),
+    (catalogue.get("fourbar_appendix"), {"rotation:crank": 30}, "deg"),
+], ids=["gough-stewart-66", "3-RRR", "four-bar"])
+def test_jacobian_by_polynomials_is_sympys(mech, values, unit):
+    u, eqs, _, _, _ = original_equations(mech, values, unit, Tolerances())
+    exprs = [e for _, e in eqs]
+    ours = solve_all_module._jacobian(exprs, list(u))
+    theirs = sp.Matrix(exprs).jacobian(list(u))
+    rng = np.random.default_rng(3)
+    f1, f2 = sp.lambdify([u], ours, "numpy"), sp.lambdify([u], theirs, "numpy")
+    for _ in range(3):
+        x = rng.standard_normal(len(u)) + 1j * rng.standard_normal(len(u))
+        a, b = np.array(f1(x), complex), np.array(f2(x), complex)
+        assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, np.max(np.abs(b)))
+
+
+@pytest.mark.parametrize("name, values, unit", [
+    ("fourbar_dead_centre", {"rotation:crank": 0}, "deg"),
+    ("five_bar", {"velocity:P.x": 0.1, "velocity:P.y": -0.2}, "rad"),
+    ("rrr_3", {"velocity:C1.x": 0.05, "velocity:C1.y": -0.05, "rotation:platform": 5}, "deg"),
+])
+def test_labels_by_the_numpy_core_are_the_batch_kernels(name, values, unit, monkeypatch):
+    """The same signs and IM / DKP types whichever core labels the real solutions (one with a dead centre)."""
+    mech = catalogue.get(name)
+    monkeypatch.setattr(solve_all_module, "ANALYZE_BELOW", 0)          # the batch kernel always
+    by_kernel = solve_all_module.solve_all(mech, values, unit=unit, method="total-degree")
+    monkeypatch.setattr(solve_all_module, "ANALYZE_BELOW", 10 ** 6)
+    monkeypatch.setattr(solve_all_module, "_kernel_ready", lambda ev: False)  # the NumPy core always
+    by_core = solve_all_module.solve_all(mech, values, unit=unit, method="total-degree")
+    assert len(by_kernel.solutions) == len(by_core.solutions) > 0
+    def flat(s):
+        return np.concatenate([s.configuration[n] for n in mech.free_nodes])
+
+    for a in by_kernel.solutions:
+        gaps = [np.max(np.abs(flat(a) - flat(b))) for b in by_core.solutions]
+        b = by_core.solutions[int(np.argmin(gaps))]
+        assert min(gaps) <= 1e-9 * mech.length_scale
+        assert a.types == b.types and a.signs == b.signs
+    if name == "fourbar_dead_centre":
+        assert sorted(s.types for s in by_core.solutions) == [(), ("DKP-output",)]
