@@ -197,14 +197,82 @@ def _jacobian(eqs: list, unknowns: list) -> sp.Matrix:
     return sp.Matrix(sp.SparseMatrix(len(eqs), len(unknowns), entries))
 
 
+#: bump when the cached source of the equations changes form
+_CHECKS_FORMAT = 1
+
+
+def _lambdified(eqs: list, u: list):
+    """``(f, jac)``: the equations and their Jacobian as NumPy functions of the vector ``u``."""
+    f = sp.lambdify([u], eqs or [sp.Integer(0)], "numpy", docstring_limit=0)  # no docstring: a third of the time
+    j = sp.lambdify([u], _jacobian(eqs, u) if eqs else sp.zeros(1, len(u)), "numpy", docstring_limit=0)
+    return f, j
+
+
+def _compiled_equations(system: PolynomialSystem, cache: bool):
+    """``(f, jac)`` of the system's original equations, NumPy functions of the unknowns' vector.
+
+    The equations that do not depend on the prescribed values (every owner but ``value:…``) are
+    the same at every query of a model: with ``cache`` their generated source is kept in the
+    artefact cache (``$SYMKIN_CACHE/query-checks/``, keyed by the equations' own text, so a
+    changed model or a changed system builder is a new key) and read back at a later query; the
+    value equations are made each time.  On the general 6-6 Gough–Stewart the cached part is 33
+    of its 39 equations.
+    """
+    import hashlib
+    import inspect
+
+    u = list(system.unknowns)
+    owned = list(system.equations)
+    base = [k for k, (o, _) in enumerate(owned) if not str(o).startswith("value:")]
+    rest = [k for k in range(len(owned)) if k not in set(base)]
+    fb = jb = None
+    path = None
+    if cache and base:
+        from symkin.numeric.codegen import cache_directory
+
+        text = "\n".join([f"format {_CHECKS_FORMAT} sympy {sp.__version__}", sp.sstr(u)]
+                         + [sp.sstr(owned[k][1]) for k in base])
+        path = cache_directory() / "query-checks" / f"{hashlib.sha256(text.encode()).hexdigest()[:32]}.py"
+        if path.exists():
+            try:
+                space: dict = dict(np.__dict__)
+                exec(compile(path.read_text(), str(path), "exec"), space)  # our own artefact
+                fb, jb = space["equations"], space["jacobian"]
+            except Exception:  # a damaged file is made again
+                fb = jb = None
+    if fb is None:
+        fb, jb = _lambdified([owned[k][1] for k in base], u)
+        if path is not None:
+            from symkin.numeric.codegen import write_atomic
+
+            try:
+                source = (inspect.getsource(fb).replace("def _lambdifygenerated(", "def equations(", 1) + "\n\n"
+                          + inspect.getsource(jb).replace("def _lambdifygenerated(", "def jacobian(", 1))
+                path.parent.mkdir(parents=True, exist_ok=True)
+                write_atomic(path, source)
+            except (OSError, TypeError):
+                pass  # no cache: the next query builds them again
+    if not rest:
+        return fb, jb
+    fv, jv = _lambdified([owned[k][1] for k in rest], u)
+    order = np.argsort(base + rest)
+
+    def f(v):
+        return np.concatenate([np.ravel(fb(v)), np.ravel(fv(v))])[order]
+
+    def j(v):
+        return np.vstack([np.reshape(jb(v), (len(base), len(u))), np.reshape(jv(v), (len(rest), len(u)))])[order]
+
+    return f, j
+
+
 class _Checks:
     """Newton, filters and the prescribed values, compiled once per system."""
 
-    def __init__(self, system: PolynomialSystem, prescribed):
+    def __init__(self, system: PolynomialSystem, prescribed, cache: bool = False):
         u = list(system.unknowns)
         eqs = [e for _, e in system.equations]
-        f = sp.lambdify([u], eqs, "numpy", docstring_limit=0)  # no docstring: a third of the time on 39 equations
-        j = sp.lambdify([u], _jacobian(eqs, u), "numpy", docstring_limit=0)
+        f, j = _compiled_equations(system, cache)
         self.f = lambda v: np.array(f(v), float).ravel()
         self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
         self.fc = lambda v: np.array(f(v), complex).ravel()
@@ -405,7 +473,7 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
     t0 = time.perf_counter()
     tracked, points = track(starts)
     track_seconds = time.perf_counter() - t0
-    checks = _Checks(system, prescribed)
+    checks = _Checks(system, prescribed, cache=cache)
     sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
     if not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the

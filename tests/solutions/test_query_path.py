@@ -66,3 +66,26 @@ def test_labels_by_the_numpy_core_are_the_batch_kernels(name, values, unit, monk
         assert a.types == b.types and a.signs == b.signs
     if name == "fourbar_dead_centre":
         assert sorted(s.types for s in by_core.solutions) == [(), ("DKP-output",)]
+
+
+def test_cached_equations_are_the_fresh_ones(tmp_path, monkeypatch):
+    """The value-free equations of a query are read back from the artefact cache at the next
+    query (a new value, the same file) and evaluate as the freshly made ones, Jacobian too."""
+    from symkin.solutions.system import PolynomialSystem
+
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    mech = read_model(GS66)
+    rng = np.random.default_rng(5)
+    for k, shift in enumerate((0.01, -0.03)):
+        values = {f"slide:s{i}": shift * i for i in range(1, 7)}
+        u, eqs, filters, center, scale = original_equations(mech, values, "rad", Tolerances())
+        system = PolynomialSystem(mech, center, scale, tuple(u), tuple(eqs), tuple(filters), (), (), None)
+        cached = solve_all_module._compiled_equations(system, cache=True)
+        files = list((tmp_path / "query-checks").glob("*.py"))
+        assert len(files) == 1  # one file for both queries: the value equations are not in it
+        fresh = solve_all_module._lambdified([e for _, e in eqs], list(u))
+        for _ in range(2):
+            x = rng.standard_normal(len(u)) + 1j * rng.standard_normal(len(u))
+            for a, b in zip(cached, fresh):
+                va, vb = np.array(a(x), complex), np.array(b(x), complex).reshape(np.shape(a(x)))
+                assert np.max(np.abs(va - vb)) <= 1e-12 * max(1.0, np.max(np.abs(vb)))
