@@ -46,11 +46,10 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from symkin.analysis.batch import evaluators_for
+from symkin.analysis.batch import BatchResult, evaluators_for, exact_indicators
 from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
-from symkin.kinds import Kind
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import estimate_seconds, require_solver, square_up, total_degree, track
 from symkin.solutions.progress import as_progress, format_seconds
@@ -659,12 +658,13 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
     if not coords:
         return []
     q = np.array([[c[n][a] for n in mech.free_nodes for a in range(mech.dim)] for c in coords])
-    analyses = None
-    if do_analyze or (len(coords) <= ANALYZE_BELOW and not _kernel_ready(ev)):
-        # a few solutions: the NumPy core decides each (the one definition, symkin.analysis.indicators,
-        # which the batch kernel shares): no seconds of building the kernel of a large model per query
-        analyses = [_analyze(mech.with_coordinates(c), tol=tol) for c in coords]
-    result = ev.batch(q, tol=tol) if analyses is None else None
+    if _kernel_ready(ev):
+        result = ev.batch(q, tol=tol)
+    else:
+        # the batch's own exact path (stacked SVD; the same J_S rows, signs and decisions), milliseconds,
+        # where building the batch kernel takes seconds on a large model (5 s on the 6-6 Gough–Stewart)
+        ex = exact_indicators(ev, q, tol)
+        result = BatchResult(**ex, path=np.full(len(q), 2, dtype=np.int8), tol=Tolerances.of(tol).rank)
     out = []
     scale = checks.system.scale
     for k, c in enumerate(coords):
@@ -673,29 +673,15 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
         err = checks.value_error(c)
         if err > VERIFY or closure > VERIFY:
             continue  # counted as unverified by the caller
-        if analyses is None:
-            signs = {"dkp_input": _sign(float(result.dkp_input[k]), bool(result.is_dkp_input[k])),
-                     "dkp_output": _sign(float(result.dkp_output[k]), bool(result.is_dkp_output[k]))}
-            types = result.types(k)
-        else:
-            a = analyses[k]
-            signs = {"dkp_input": _sign(_value(a.dkp_input), Kind.DKP_INPUT in a.types),
-                     "dkp_output": _sign(_value(a.dkp_output), Kind.DKP_OUTPUT in a.types)}
-            types = tuple(k for k in (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT) if k in a.types)  # the batch's
-        out.append(Solution(c, signs, float(residuals[k]), closure, types, counts[k],
-                            analyses[k] if do_analyze else None))
+        signs = {"dkp_input": _sign(float(result.dkp_input[k]), bool(result.is_dkp_input[k])),
+                 "dkp_output": _sign(float(result.dkp_output[k]), bool(result.is_dkp_output[k]))}
+        analysis = _analyze(mech.with_coordinates(c), tol=tol) if do_analyze else None
+        out.append(Solution(c, signs, float(residuals[k]), closure, result.types(k), counts[k], analysis))
     return out
 
-
-#: at most this many real solutions are labelled by :func:`symkin.analyze` one by one when the
-#: evaluators' batch kernel is not built yet (building it takes seconds on a large model)
-ANALYZE_BELOW = 16
 
 
 def _kernel_ready(ev) -> bool:
     """Whether the evaluators' batch kernel is built (its lazy builder has run or was never needed)."""
     return getattr(ev.functions, "_build", None) is None
 
-
-def _value(v) -> float:
-    return math.nan if v is None else float(v)

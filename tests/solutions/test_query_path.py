@@ -2,9 +2,10 @@
 
 Two shortcuts of :mod:`symkin.solutions.solve_all` are checked against what they replace: the
 checks' Jacobian built equation by equation from polynomials (against sympy's
-``Matrix.jacobian``), and the labelling of a few real solutions by the NumPy core
-(``symkin.analyze``) when the evaluators' batch kernel is not built (against the batch kernel's
-signs and types).  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
+``Matrix.jacobian``), and the labelling of the real solutions by the batch's exact path
+(:func:`symkin.analysis.batch.exact_indicators`) when the evaluators' batch kernel is not built
+(against the batch kernel's signs and types), and the value-free equations read back from the
+artefact cache (against freshly made ones).  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
 """
 from __future__ import annotations
 
@@ -42,30 +43,37 @@ def test_jacobian_by_polynomials_is_sympys(mech, values, unit):
         assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, np.max(np.abs(b)))
 
 
-@pytest.mark.parametrize("name, values, unit", [
-    ("fourbar_dead_centre", {"rotation:crank": 0}, "deg"),
-    ("five_bar", {"velocity:P.x": 0.1, "velocity:P.y": -0.2}, "rad"),
-    ("rrr_3", {"velocity:C1.x": 0.05, "velocity:C1.y": -0.05, "rotation:platform": 5}, "deg"),
-])
-def test_labels_by_the_numpy_core_are_the_batch_kernels(name, values, unit, monkeypatch):
-    """The same signs and IM / DKP types whichever core labels the real solutions (one with a dead centre)."""
-    mech = catalogue.get(name)
-    monkeypatch.setattr(solve_all_module, "ANALYZE_BELOW", 0)          # the batch kernel always
-    by_kernel = solve_all_module.solve_all(mech, values, unit=unit, method="total-degree")
-    monkeypatch.setattr(solve_all_module, "ANALYZE_BELOW", 10 ** 6)
-    monkeypatch.setattr(solve_all_module, "_kernel_ready", lambda ev: False)  # the NumPy core always
-    by_core = solve_all_module.solve_all(mech, values, unit=unit, method="total-degree")
-    assert len(by_kernel.solutions) == len(by_core.solutions) > 0
+@pytest.mark.parametrize("mech, values, unit", [
+    (catalogue.get("fourbar_dead_centre"), {"rotation:crank": 0}, "deg"),
+    (catalogue.get("five_bar"), {"velocity:P.x": 0.1, "velocity:P.y": -0.2}, "rad"),
+    (catalogue.get("rrr_3"), {"velocity:C1.x": 0.05, "velocity:C1.y": -0.05, "rotation:platform": 5}, "deg"),
+    (read_model(GS66), {f"slide:s{k}": v for k, v in zip(range(1, 7), (0.08, -0.05, 0.03, 0.1, -0.07, 0.02))},
+     "rad"),
+], ids=["dead-centre", "five-bar", "3-RRR", "gough-stewart-66"])
+def test_labels_without_the_kernel_are_the_batch_kernels(mech, values, unit, monkeypatch, tmp_path):
+    """The same signs and IM / DKP types whether the real solutions are labelled by the batch kernel
+    or, before it is built, by the batch's exact path (one with a dead centre; the 6-6's two
+    solutions have opposite DKP-input signs)."""
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    method = "parameter" if mech.dim == 3 else "total-degree"
+    monkeypatch.setattr(solve_all_module, "_kernel_ready", lambda ev: False)   # the exact path
+    by_exact = solve_all_module.solve_all(mech, values, unit=unit, method=method)
+    monkeypatch.setattr(solve_all_module, "_kernel_ready", lambda ev: True)    # the batch kernel
+    by_kernel = solve_all_module.solve_all(mech, values, unit=unit, method=method)
+    assert len(by_kernel.solutions) == len(by_exact.solutions) > 0
+
     def flat(s):
         return np.concatenate([s.configuration[n] for n in mech.free_nodes])
 
     for a in by_kernel.solutions:
-        gaps = [np.max(np.abs(flat(a) - flat(b))) for b in by_core.solutions]
-        b = by_core.solutions[int(np.argmin(gaps))]
+        gaps = [np.max(np.abs(flat(a) - flat(b))) for b in by_exact.solutions]
+        b = by_exact.solutions[int(np.argmin(gaps))]
         assert min(gaps) <= 1e-9 * mech.length_scale
         assert a.types == b.types and a.signs == b.signs
-    if name == "fourbar_dead_centre":
-        assert sorted(s.types for s in by_core.solutions) == [(), ("DKP-output",)]
+    if "dead centre" in mech.name:
+        assert sorted(s.types for s in by_exact.solutions) == [(), ("DKP-output",)]
+    if mech.dim == 3:
+        assert sorted(s.signs["dkp_input"] for s in by_exact.solutions) == [-1, 1]
 
 
 def test_cached_equations_are_the_fresh_ones(tmp_path, monkeypatch):
