@@ -32,14 +32,13 @@ locus exactly.
 from __future__ import annotations
 
 import math
-import time
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from symkin.errors import SymkinError
 from symkin.kinds import Kind
-from symkin.model.labels import CoordinateLabel, OrientationLabel, parse_label
+from symkin.model.labels import CoordinateLabel, OrientationLabel
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
 
@@ -266,7 +265,5 @@ def pose_condition(sm, ps: PoseSlice, kind: str) -> tuple[sp.Expr, list[sp.Expr]
     gens = ps.variables
     dom = sp.QQ[gens]
     m = DomainMatrix([[dom.from_sympy(sp.sympify(e)) for e in row] for row in rows], (6, 6), dom)
-    t0 = time.perf_counter()
     det = dom.to_sympy(m.det())
-    del t0
     return sp.expand(det), contents
