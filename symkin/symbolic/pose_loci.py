@@ -72,8 +72,11 @@ class PoseSlice:
     """
 
     def __init__(self, mech: Mechanism, link: str, node: str, coords: list[CoordinateLabel],
-                 height: CoordinateLabel, height_value, rotation_vector):
+                 height: CoordinateLabel, height_value, rotation_vector, arms: list[str] | None = None,
+                 geometry: float = 1e-6):
         self.mech, self.link, self.node = mech, link, node
+        self.geometry = geometry
+        self.legs: list[ArmLeg] = []
         face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
         self.face = face
         self.variables = tuple(coordinate_symbol(AXES[c.axis], node) for c in coords)
@@ -97,12 +100,58 @@ class PoseSlice:
             d = sp.Matrix(d0)
             self.position[n] = sp.Matrix(o) + d
             skew = sp.Matrix([[0, d[2], -d[1]], [-d[2], 0, d[0]], [d[1], -d[0], 0]])  # ω × d = −[d]× ω
-            self.velocity[n] = sp.Matrix.hstack(sp.eye(3), skew)
+            self.velocity[n] = sp.eye(3) if arms else sp.Matrix.hstack(sp.eye(3), skew)
             self.den[n] = sp.Integer(1)
-        for n in mech.free_nodes:
+        for k, arm in enumerate(arms or ()):
+            self._arm(arm, k + 1, face, platform)
+        for n in mech.free_nodes if not arms else ():
             if n in platform:
                 continue
             self._leg_node(n, face)
+
+    def _arm(self, arm: str, k: int, face, platform) -> None:
+        """The nodes of an arm turning about its two fixed nodes, over the platform's translation."""
+        mech = self.mech
+        fixed = set(mech.fixed)
+        ns = mech.link_nodes(arm)
+        a, a2 = [n for n in ns if n in fixed]
+        free = [n for n in ns if n not in fixed]
+        c, s = sp.symbols(f"c_{k} s_{k}", real=True)
+        e = sp.Matrix([face[a2][i] - face[a][i] for i in range(3)])
+        e2 = e.dot(e)
+        pa = sp.Matrix(face[a])
+        taus = {}
+        for n in free:
+            d = sp.Matrix([face[n][i] - face[a][i] for i in range(3)])
+            par = e * (e.dot(d) / e2)
+            perp = d - par
+            w = e.cross(d)
+            self.position[n] = pa + par + c * perp + s * w
+            taus[n] = -s * e2 * perp + c * w  # |e| dB/dθ
+        bars = [(n, m) for name, ends in mech.links if len(ends) == 2
+                for n, m in (ends, ends[::-1]) if n in free and m in platform]
+        if not bars:
+            raise SymkinError(f"arm {arm!r} has no bar to the platform {self.link!r}: the translating-platform "
+                              "route places arms joined to the platform by bars only")
+        leg = None
+        for n, m in bars:
+            l2 = sum((face[m][i] - face[n][i]) ** 2 for i in range(3))
+            u = self.position[m] - self.position[n]
+            probe = ArmLeg(arm, c, s, e2, sp.Integer(0))
+            closure = probe.reduce(u.dot(u) - l2)
+            if leg is None:
+                leg = ArmLeg(arm, c, s, e2, closure)
+                n0, u0 = n, u
+            elif _differ(closure - leg.closure, (c, s), self.variables, mech.length_scale, self.geometry):
+                raise SymkinError(f"the bars of arm {arm!r} to {self.link!r} do not form a parallelogram (their "
+                                  "closures differ): the platform is not held to translation, the translating-"
+                                  "platform route does not apply")
+        self.legs.append(leg)
+        # θ̇ |e|-scaled: μ = u·v / (u·τ), u = C − B of the first bar; each arm node moves with μ τ
+        den = leg.reduce(u0.dot(taus[n0]))
+        for n in free:
+            self.velocity[n] = (taus[n] * u0.T).applyfunc(sp.expand)
+            self.den[n] = den
 
     def _leg_node(self, n: str, face) -> None:
         """``D = A + λ (C − A)``: the end of a bar from a fixed joint carrying a slider's line to the platform."""
@@ -218,7 +267,7 @@ def pose_rows(sm, ps: PoseSlice, params) -> tuple[list[list[sp.Expr]], list[sp.E
     names = ps.mech.node_names
     rows, contents = [], []
     for r in sm.parameter_symrows(params):
-        acc = sp.zeros(1, 6)
+        acc = sp.zeros(1, 3 if ps.legs else 6)
         dens = []
         blocks = r.block_vectors()
         for k, vec in blocks.items():
@@ -234,15 +283,18 @@ def pose_rows(sm, ps: PoseSlice, params) -> tuple[list[list[sp.Expr]], list[sp.E
             v = sp.Matrix([[sp.sympify(c).xreplace(lengths) for c in vec]]).xreplace(subs)
             acc += v * ps.velocity[n] * sp.cancel(common / ps.den[n])
         entries = [sp.expand(sm.substitute_design(e)) for e in acc]
-        extra = set().union(*[e.free_symbols for e in entries]) - set(ps.variables) - set(ps.relations)
+        legs = {x for leg in ps.legs for x in (leg.c, leg.s)}
+        extra = set().union(*[e.free_symbols for e in entries]) - set(ps.variables) - set(ps.relations) - legs
         if extra:
             raise SymkinError(f"row {r.owner}: symbols {', '.join(sorted(map(str, extra)))} left in the pose")
         entries = _reduce_lambda(entries, ps.relations)
-        gens = ps.variables
+        for leg in ps.legs:
+            entries = [leg.reduce(e) for e in entries]
+        gens = ps.variables + tuple(x for leg in ps.legs for x in (leg.c, leg.s))
         polys = [sp.Poly(e, *gens, domain="QQ") for e in entries]
         nonzero = [p for p in polys if not p.is_zero]
         if not nonzero:
-            rows.append([sp.Integer(0)] * 6)
+            rows.append([sp.Integer(0)] * len(entries))
             contents.append(sp.Integer(1))
             continue
         g = nonzero[0]
@@ -259,11 +311,73 @@ def pose_condition(sm, ps: PoseSlice, kind: str) -> tuple[sp.Expr, list[sp.Expr]
     mech = ps.mech
     params = mech.inputs if kind == Kind.DKP_INPUT else mech.outputs
     rows, contents = pose_rows(sm, ps, params)
-    if len(rows) != 6:
-        raise SymkinError(f"{kind}: {len(rows)} rows over the platform's 6 twist components; the pose route "
+    n = 3 if ps.legs else 6
+    if len(rows) != n:
+        raise SymkinError(f"{kind}: {len(rows)} rows over the platform's {n} twist components; the pose route "
                           "forms a square determinant only")
-    gens = ps.variables
+    gens = ps.variables + tuple(x for leg in ps.legs for x in (leg.c, leg.s))
     dom = sp.QQ[gens]
-    m = DomainMatrix([[dom.from_sympy(sp.sympify(e)) for e in row] for row in rows], (6, 6), dom)
+    m = DomainMatrix([[dom.from_sympy(sp.sympify(e)) for e in row] for row in rows], (n, n), dom)
     det = dom.to_sympy(m.det())
     return sp.expand(det), contents
+
+
+# ------------------------------------------------------------------ translating platform (Delta)
+
+
+def _differ(diff: sp.Expr, leg, xs, length: float, tol: float) -> bool:
+    """A closure difference (a length²) larger than rounding: each coefficient, in units of the
+    model's ``length`` scale (``x``, ``y``: a length; ``c``: 1; ``s``: 1/length), against ``tol``."""
+    p = sp.Poly(sp.expand(diff), *xs, *leg)
+    return any(abs(float(coeff)) > tol * length ** (2 - i - j + k) for (i, j, _, k), coeff in p.terms())
+
+
+class ArmLeg:
+    """One leg of a translating platform: an arm turning about a fixed axis ``A-A'`` whose node ``B``
+    carries a bar ``B-C`` to the platform.  Its nodes are ``A + d_par + c d_perp + s (e × d)``
+    (``e = A' − A``, ``d`` a node's model offset from ``A``), with ``c² + E s² = 1``, ``E = e·e``
+    (``c = cos θ``, ``s = sin θ / |e|``).  ``closure`` is ``|C − B|² − l²``, linear in ``(c, s)``
+    once reduced with the relation."""
+
+    def __init__(self, link: str, c: sp.Symbol, s: sp.Symbol, e2: sp.Rational, closure: sp.Expr):
+        self.link, self.c, self.s, self.e2, self.closure = link, c, s, e2, closure
+
+    def reduce(self, expr: sp.Expr) -> sp.Expr:
+        """``c² → 1 − E s²`` until ``expr`` has degree ≤ 1 in ``c``."""
+        p = sp.Poly(sp.expand(expr), self.c)
+        out = sp.Integer(0)
+        for (k,), coeff in p.terms():
+            m, r = divmod(k, 2)
+            out += coeff * self.c ** r * (1 - self.e2 * self.s ** 2) ** m
+        return sp.expand(out)
+
+
+def translation_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: list,
+                      geometry: float) -> PoseSlice | None:
+    """The slice of a translating platform (a Delta: three arms on fixed axes, each joined to the
+    platform by a parallelogram of two bars) at a held height of one of its nodes, in its pose; None
+    when the mechanism is not of that kind (then the node-coordinate route applies).
+
+    The platform is taken at its model orientation; that it only translates rests on the
+    parallelograms, checked here: the closures of an arm's bars must be the same polynomial (to
+    ``geometry``, the relative tolerance of model geometry: the model's numbers are rounded).
+    """
+    if mech.dim != 3 or len(coords) != 2 or len(holds) != 1 or mech.sliders:
+        return None
+    if any(c.parameter.kind != "velocity" for c in coords) or holds[0][0].parameter.kind != "velocity":
+        return None
+    nodes = {c.parameter.target[0] for c in coords} | {holds[0][0].parameter.target[0]}
+    if len(nodes) != 1 or sorted([c.axis for c in coords] + [holds[0][0].axis]) != [0, 1, 2]:
+        return None
+    node = nodes.pop()
+    fixed = set(mech.fixed)
+    owners = [name for name, ns in mech.links if node in ns and not set(ns) & fixed]
+    if len(owners) != 1:
+        return None
+    platform = set(mech.link_nodes(owners[0]))
+    arms = [name for name, ns in mech.links if len(set(ns) & fixed) == 2 and set(ns) - fixed]
+    arm_nodes = {n for a in arms for n in mech.link_nodes(a)} - fixed
+    if not arms or set(mech.free_nodes) != platform | arm_nodes or platform & arm_nodes:
+        return None
+    return PoseSlice(mech, owners[0], node, coords, holds[0][0], holds[0][1], (0.0, 0.0, 0.0), arms=arms,
+                     geometry=geometry)
