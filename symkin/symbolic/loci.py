@@ -948,6 +948,11 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
         from symkin.symbolic.pose_loci import pose_slice
         ps = pose_slice(mech, coords, [(h, v) for h, (_, v) in zip(held, pairs)], UNITS[unit])
         return _pose_loci(mech, ps, coords, held, kinds, time_limit, tol)
+    if mech.dim == 3:
+        from symkin.symbolic.pose_loci import translation_slice
+        ps = translation_slice(mech, coords, [(h, v) for h, (_, v) in zip(held, pairs)], tol.geometry)
+        if ps is not None:
+            return _pose_loci(mech, ps, coords, held, kinds, time_limit, tol)
     sys = _build(mech, snap_model(mech, tol))
     xs = tuple(_variable_symbol(mech, c) for c in coords)
     extra = []
@@ -990,7 +995,7 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
 def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
     """The loci of a spatial platform at a held orientation (:mod:`symkin.symbolic.pose_loci`)."""
     from symkin.symbolic.model import symbolic_model
-    from symkin.symbolic.pose_loci import pose_condition
+    from symkin.symbolic.pose_loci import eliminate_arms, pose_condition
 
     xs = ps.variables
     face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
@@ -1011,6 +1016,8 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
             with _limit(kind, time_limit) as limit:
                 det, contents = pose_condition(sm, ps, kind)
                 _poll(limit)
+                if ps.legs and det != 0 and any(det.has(leg.c, leg.s) for leg in ps.legs):
+                    det, _ = eliminate_arms(det, ps, lambda: _poll(limit))  # its divided-out factors are no locus
                 if det == 0:
                     loci.append(Locus(kind, (), (), time.perf_counter() - t0,
                                       "the condition holds on the whole slice", True))
@@ -1024,9 +1031,16 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
             skipped.append(f"{kind} locus: {exc}")
             continue
         which = kind.split("-")[1]
-        note = (f"det(P V) = 0: the {which} rows over the platform's twist at {ps.node} (orientation of "
-                f"{ps.link} held), each leg placed in closed form; zero where a motion is left with the "
-                f"{which}s locked")
+        if ps.legs:
+            note = (f"det(P V) = 0: the {which} rows over the translation of {ps.link} (its parallelograms keep "
+                    f"its orientation), each arm's nodes in (cos, sin) of its angle, the angles eliminated with "
+                    f"the arms' closures (resultants; powers of each closure's cos coefficient and of q^2 + E p^2 "
+                    f"divided out): every working mode's curve; zero where a motion is left with the {which}s "
+                    f"locked")
+        else:
+            note = (f"det(P V) = 0: the {which} rows over the platform's twist at {ps.node} (orientation of "
+                    f"{ps.link} held), each leg placed in closed form; zero where a motion is left with the "
+                    f"{which}s locked")
         loci.append(Locus(kind, tuple(geometric), tuple(trivial), time.perf_counter() - t0, note))
     return Loci(xs, tuple(c.label for c in coords), tuple(h.label for h in held), tuple(loci), tuple(skipped),
                 mech.name, None)

@@ -42,7 +42,7 @@ from symkin.model.labels import CoordinateLabel, OrientationLabel
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
 
-__all__ = ["PoseSlice", "pose_slice", "pose_rows", "pose_condition"]
+__all__ = ["PoseSlice", "pose_slice", "pose_rows", "pose_condition", "translation_slice", "eliminate_arms"]
 
 
 def _q(v: float) -> sp.Rational:
@@ -381,3 +381,76 @@ def translation_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: lis
         return None
     return PoseSlice(mech, owners[0], node, coords, holds[0][0], holds[0][1], (0.0, 0.0, 0.0), arms=arms,
                      geometry=geometry)
+
+
+def _by_power(p, i: int, ring) -> dict:
+    """``p = Σ_k C_k g_i^k``: ``{k: C_k}`` (ring elements free of generator ``i``)."""
+    out: dict = {}
+    for m, coeff in p.terms():
+        mm = list(m)
+        k, mm[i] = m[i], 0
+        out[k] = out.get(k, ring.zero) + ring({tuple(mm): coeff})
+    return out
+
+
+def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.Expr, list[sp.Expr]]:
+    """The polynomial in the variables whose zeros are the points where ``det`` vanishes for some
+    real or complex placement of the arms, and the nonzero factors divided out.
+
+    Leg by leg: its closure ``p c + q s + r = 0`` gives ``c = −(q s + r)/p``; ``det`` (reduced to
+    degree ≤ 1 in ``c``) becomes ``G(s)`` times a power of ``p``, and the relation
+    ``Q(s) = (q s + r)² + E p² s² − p² = 0``; ``G`` is reduced modulo ``Q`` (pseudo-remainder, a
+    power of ``Q``'s leading coefficient ``q² + E p²``) to ``a s + b`` and their resultant
+    ``Q₂ b² − Q₁ a b + Q₀ a²`` replaces ``det``.  Powers of ``p`` (the substitution's
+    denominator) and of ``q² + E p²`` (positive at every real point where the leg's closure
+    depends on its angle) that divide the result are divided out and returned.
+    """
+    from sympy.polys.rings import ring
+
+    xs = ps.variables
+    syms = list(xs) + [x for leg in ps.legs for x in (leg.c, leg.s)]
+    rng, *gens = ring(syms, sp.QQ)
+    f = rng(sp.expand(det))
+    removed: list = []
+    for leg in ps.legs:
+        ci, si = syms.index(leg.c), syms.index(leg.s)
+        e2 = sp.QQ(leg.e2.p, leg.e2.q)
+        s = gens[si]
+        by_c = _by_power(rng(sp.expand(leg.closure)), ci, rng)
+        if set(by_c) - {0, 1}:
+            raise SymkinError(f"the closure of arm {leg.link!r} is not linear in its angle's cosine")
+        p = by_c.get(1, rng.zero)
+        by_s = _by_power(by_c.get(0, rng.zero), si, rng)
+        q, r = by_s.get(1, rng.zero), by_s.get(0, rng.zero)
+        if p == 0:
+            raise SymkinError(f"the closure of arm {leg.link!r} does not depend on its angle's cosine")
+        fk = _by_power(f, ci, rng)
+        top = max(fk)
+        g = rng.zero
+        for k, coeff in fk.items():
+            g += coeff * (-(q * s + r)) ** k * p ** (top - k)
+        poll()
+        qk = _by_power((q * s + r) ** 2 + e2 * p ** 2 * s ** 2 - p ** 2, si, rng)
+        q2, q1, q0 = (qk.get(k, rng.zero) for k in (2, 1, 0))
+        gk = _by_power(g, si, rng)
+        d = max(gk)
+        while d >= 2:
+            lead = gk.pop(d)
+            gk = {k: v * q2 for k, v in gk.items()}
+            gk[d - 1] = gk.get(d - 1, rng.zero) - lead * q1
+            gk[d - 2] = gk.get(d - 2, rng.zero) - lead * q0
+            d -= 1
+            poll()
+        a, b = gk.get(1, rng.zero), gk.get(0, rng.zero)
+        f = q2 * b ** 2 - q1 * a * b + q0 * a ** 2
+        poll()
+        for h in (p, q2):
+            if h.is_ground:
+                continue
+            while True:
+                quo, rem = f.div(h)
+                if rem != 0:
+                    break
+                f = quo
+                removed.append(h.as_expr())
+    return f.as_expr(), removed
