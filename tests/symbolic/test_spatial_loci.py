@@ -162,3 +162,153 @@ def test_holds_that_do_not_fix_the_whole_orientation_are_an_error():
     with pytest.raises(symkin.SymkinError, match="all three components"):
         implicit_loci(mech, ("velocity:O.x", "velocity:O.y"),
                       hold=("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "slide:s1"))
+
+
+# ---------------------------------------------------------------- the Delta at constant height
+#
+# A Delta (3-R(SS)²) whose numbers are short decimals: arm directions (1, 0), (−0.6, ±0.8) (a
+# Pythagorean layout, not 120°), arm angles with Pythagorean (cos, sin), platform at P.  Truth: the
+# inverse kinematics by elementary geometry (per leg, both elbow solutions of
+# ``|C − B(θ)| = l``, B turning about the arm's axis; 8 working modes) and the type-2 condition
+# det[C_i − B_i] = 0 (the three bars parallel to one plane), relative to the bars' lengths.
+
+XP, YP = sp.symbols("x_P y_P", real=True)
+DELTA_Z = -2.2
+
+
+def delta_model(scale: float = 1.0) -> symkin.Mechanism:
+    dirs = [(1.0, 0.0), (-0.6, 0.8), (-0.6, -0.8)]
+    arm_cs = [(0.6, 0.8), (0.8, 0.6), (0.28, 0.96)]
+    base, arm, plat, half = 1.0, 1.0, 0.3, 0.2
+    p = (0.1, -0.05, DELTA_Z)
+    nodes, links = {"P": p}, {}
+    for k, ((ux, uy), (c, s)) in enumerate(zip(dirs, arm_cs), 1):
+        tx, ty = -uy, ux
+        a = (base * ux, base * uy, 0.0)
+        b = (a[0] + arm * c * ux, a[1] + arm * c * uy, -arm * s)
+        cc = (p[0] + plat * ux, p[1] + plat * uy, p[2])
+        nodes[f"A{k}"], nodes[f"A{k}b"] = a, (a[0] + tx, a[1] + ty, 0.0)
+        for sign, tag in ((-1, "a"), (1, "b")):
+            nodes[f"B{k}{tag}"] = (b[0] + sign * half * tx, b[1] + sign * half * ty, b[2])
+            nodes[f"C{k}{tag}"] = (cc[0] + sign * half * tx, cc[1] + sign * half * ty, cc[2])
+            links[f"bar{k}{tag}"] = [f"B{k}{tag}", f"C{k}{tag}"]
+        links[f"arm{k}"] = [f"A{k}", f"A{k}b", f"B{k}a", f"B{k}b"]
+    links["platform"] = [f"C{k}{t}" for k in (1, 2, 3) for t in "ab"] + ["P"]
+    return symkin.Mechanism.from_dict({
+        "name": "Delta", "dim": 3, "fixed": [f"A{k}{t}" for k in (1, 2, 3) for t in ("", "b")], "mobility": 3,
+        "inputs": [{"rotation": f"arm{k}", "axis": [f"A{k}", f"A{k}b"]} for k in (1, 2, 3)],
+        "outputs": [{"velocity": "P"}], "links": links,
+        "nodes": {n: [round(v * scale, 12) for v in x] for n, x in nodes.items()}})
+
+
+def delta_mode_dets(mech: symkin.Mechanism, x: float, y: float, z: float) -> list[float] | None:
+    """det[C_i − B_i] / Π|C_i − B_i| for the 8 working modes at P = (x, y, z); None where a leg does not reach."""
+    q = {n: np.array(v, float) for n, v in mech.nodes}
+    shift = np.array([x, y, z]) - q["P"]
+    legs = []
+    for k in (1, 2, 3):
+        a, t = q[f"A{k}"], q[f"A{k}b"] - q[f"A{k}"]
+        t = t / np.linalg.norm(t)
+        b0, c0 = q[f"B{k}a"], q[f"C{k}a"]
+        rr = b0 - a
+        par, perp = t * (t @ rr), rr - t * (t @ rr)
+        side = np.cross(t, perp)
+        c = c0 + shift
+        l2 = np.sum((c0 - b0) ** 2)
+        w = c - a - par  # |w − cosθ perp − sinθ side|² = l²
+        alpha, beta = 2 * (w @ perp), 2 * (w @ side)
+        gamma = w @ w + perp @ perp - l2
+        rho = math.hypot(alpha, beta)
+        if abs(gamma) > rho:
+            return None
+        phi, delta = math.atan2(beta, alpha), math.acos(gamma / rho)
+        legs.append([c - (a + par + math.cos(th) * perp + math.sin(th) * side) for th in (phi + delta, phi - delta)])
+    out = []
+    for d1 in legs[0]:
+        for d2 in legs[1]:
+            for d3 in legs[2]:
+                m = np.array([d1, d2, d3])
+                out.append(float(np.linalg.det(m) / np.prod(np.linalg.norm(m, axis=1))))
+    return out
+
+
+@pytest.fixture(scope="module")
+def delta_locus():
+    mech = delta_model()
+    loci = implicit_loci(mech, ("velocity:P.x", "velocity:P.y"), hold=("velocity:P.z",), time_limit=120)
+    return mech, loci
+
+
+def _real_roots_y(poly: sp.Expr, x: sp.Rational) -> list[float]:
+    p = sp.Poly(sp.expand(poly.xreplace({XP: x})), YP)
+    return [float((a + b) / 2) for (a, b), _ in p.intervals(eps=sp.Rational(1, 10 ** 14))]
+
+
+def test_delta_type2_locus_at_constant_height_is_the_bars_coplanarity_of_some_working_mode(delta_locus):
+    mech, loci = delta_locus
+    assert not loci.skipped
+    locus = loci[Kind.DKP_INPUT]
+    assert len(locus.factors) == 1 and not locus.trivial
+    f = locus.factors[0]
+    assert f.degree == 48 and f.meaning.startswith("24-circular curve of degree 48")
+    assert loci[Kind.DKP_OUTPUT].factors == ()  # the output rows are the translation itself
+    checked = off = 0
+    for xv in (sp.Rational(-3, 10), sp.Rational(1, 10), sp.Rational(7, 20)):
+        ys = _real_roots_y(f.polynomial, xv)
+        assert ys
+        for y in ys:
+            dets = delta_mode_dets(mech, float(xv), y, DELTA_Z)
+            if dets is None:
+                continue
+            checked += 1
+            assert min(abs(d) for d in dets) < 1e-8, (float(xv), y, dets)
+        for y0, y1 in zip(ys[:-1], ys[1:]):
+            dets = delta_mode_dets(mech, float(xv), 0.5 * (y0 + y1), DELTA_Z)
+            if dets is not None and abs(y1 - y0) > 1e-3:
+                off += 1
+                assert min(abs(d) for d in dets) > 1e-6, (float(xv), 0.5 * (y0 + y1), dets)
+    assert checked >= 6 and off >= 3
+
+
+def test_delta_type2_locus_contains_every_working_modes_curve(delta_locus):
+    """Where a mode's det changes sign along x = const (bisected, by geometry), the polynomial changes sign too."""
+    mech, loci = delta_locus
+    f = sp.lambdify((XP, YP), loci[Kind.DKP_INPUT].factors[0].polynomial, "mpmath")
+    import mpmath
+    found = 0
+    for xv in (-0.3, 0.1, 0.35):
+        ys = np.linspace(-1.2, 1.2, 241)
+        vals = [delta_mode_dets(mech, xv, y, DELTA_Z) for y in ys]
+        for k in range(len(ys) - 1):
+            if vals[k] is None or vals[k + 1] is None:
+                continue
+            for mode in range(8):
+                if vals[k][mode] * vals[k + 1][mode] >= 0:
+                    continue
+                lo, hi = ys[k], ys[k + 1]
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    v = delta_mode_dets(mech, xv, mid, DELTA_Z)
+                    if v is None:
+                        break
+                    lo, hi = (lo, mid) if v[mode] * vals[k][mode] < 0 else (mid, hi)
+                y0, h = mpmath.mpf(0.5 * (lo + hi)), mpmath.mpf(1e-7)
+                with mpmath.workdps(60):
+                    assert f(mpmath.mpf(xv), y0 - h) * f(mpmath.mpf(xv), y0 + h) < 0, (xv, float(y0), mode)
+                found += 1
+    assert found >= 8
+
+
+def test_delta_type2_locus_in_mm_is_the_metre_locus_scaled():
+    a = delta_model()
+    b = delta_model(1000.0)
+    fa = implicit_loci(a, ("velocity:P.x", "velocity:P.y"), hold=("velocity:P.z",),
+                       kinds=(Kind.DKP_INPUT,), time_limit=120)[Kind.DKP_INPUT].factors
+    fb = implicit_loci(b, ("velocity:P.x", "velocity:P.y"), hold=("velocity:P.z",),
+                       kinds=(Kind.DKP_INPUT,), time_limit=120)[Kind.DKP_INPUT].factors
+    assert [f.degree for f in fa] == [f.degree for f in fb] == [48]
+    pa = sp.Poly(fa[0].polynomial, XP, YP)
+    pb = sp.Poly(sp.expand(fb[0].polynomial.xreplace({XP: 1000 * XP, YP: 1000 * YP})), XP, YP)
+    assert pa.monoms() == pb.monoms()
+    ratio = pb.LC() / pa.LC()
+    assert all(cb == ratio * ca for ca, cb in zip(pa.coeffs(), pb.coeffs()))
