@@ -545,6 +545,7 @@ def _substitute_linear(equations: list, unknowns: list, limit) -> tuple[dict, li
     """Solve equations linear in an unknown with a constant coefficient; substitute them."""
     subs: dict = {}
     eqs = [sp.expand(e) for e, _ in equations]
+    owners = [o for _, o in equations]
     changed = True
     while changed:
         changed = False
@@ -565,10 +566,13 @@ def _substitute_linear(equations: list, unknowns: list, limit) -> tuple[dict, li
                     break
             if changed:
                 break
-    for e in eqs:
+    for e, owner in zip(eqs, owners):
         if e.is_number and e != 0:
-            raise LociError("the closure with these variables and holds has no solution (inconsistent "
-                            "held values?)")
+            raise LociError(f"the equation of {owner} reduces to the nonzero constant {float(e):.3g} once the "
+                            "variables, holds and the equations linear in one coordinate are substituted: either "
+                            "the held values place no configuration, or that equation is redundant (a rigid link "
+                            "with more nodes than fix it, a parallelogram) and the model's numbers, snapped to exact "
+                            "values, make it disagree with the others by rounding")
     return subs, [e for e in eqs if e != 0]
 
 
@@ -1007,16 +1011,25 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
     for kind in [k for k in KINDS if k in kinds]:
         t0 = time.perf_counter()
         if kind == Kind.IM:
-            loci.append(Locus(kind, (), (), time.perf_counter() - t0,
-                              "no curve: every configuration of the slice is placed by the pose, each leg node in "
-                              "closed form where its leg has a length (|C - A| > 0), and moves with the platform's "
-                              "six twists: L = F on the slice"))
+            text = ("no curve: every configuration of the slice is placed by the pose, each leg node in closed "
+                    "form where its leg has a length (|C - A| > 0), and moves with the platform's six twists: "
+                    "L = F on the slice")
+            if ps.legs:
+                skipped.append("IM locus: not derived on the translating-platform route (each arm is placed by its "
+                               "angle; an IM configuration of the Delta needs a bar of zero length or an arm on its "
+                               "axis)")
+                continue
+            loci.append(Locus(kind, (), (), time.perf_counter() - t0, text))
             continue
         try:
             with _limit(kind, time_limit) as limit:
                 det, contents = pose_condition(sm, ps, kind)
                 _poll(limit)
-                if ps.legs and det != 0 and any(det.has(leg.c, leg.s) for leg in ps.legs):
+                if ps.legs and kind == Kind.DKP_OUTPUT and det.is_number and det != 0:
+                    # outputs locked (the platform still): arm i turns alone where its bar is normal to its motion
+                    det = sp.Mul(*[eliminate_arms(den, ps, lambda: _poll(limit))[0] for _, den in ps.arm_rows])
+                eliminated = ps.legs and det != 0 and any(det.has(leg.c, leg.s) for leg in ps.legs)
+                if eliminated:
                     det, _ = eliminate_arms(det, ps, lambda: _poll(limit))  # its divided-out factors are no locus
                 if det == 0:
                     loci.append(Locus(kind, (), (), time.perf_counter() - t0,
@@ -1025,13 +1038,21 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
                 total = sp.Mul(det, *contents)
                 geometric, trivial = (_with_normalised(fs, xs) for fs in _factors(total, xs, sys))
         except DerivationTimeout as exc:
-            skipped.append(str(exc) if "locus" in str(exc) else f"{kind} locus: {exc}")
+            text = str(exc) if "locus" in str(exc) else f"{kind} locus: {exc}"
+            if ps.legs:
+                text += ("; the arms' elimination grows with the digits of the model's numbers (exact rationals of "
+                         "its floats: 16 digits for cos 120 deg), a model typed with short decimals derives in "
+                         "seconds")
+            skipped.append(text)
             continue
         except (LociError, SymkinError) as exc:
             skipped.append(f"{kind} locus: {exc}")
             continue
         which = kind.split("-")[1]
-        if ps.legs:
+        if ps.legs and kind == Kind.DKP_OUTPUT:
+            note = (f"{ps.link!r} still (outputs locked): arm i turns alone where (C_i - B_i).(dB_i/dtheta_i)"
+                    f" = 0, its angle eliminated with its closure (resultant); one factor set per arm")
+        elif ps.legs:
             note = (f"det(P V) = 0: the {which} rows over the translation of {ps.link} (its parallelograms keep "
                     f"its orientation), each arm's nodes in (cos, sin) of its angle, the angles eliminated with "
                     f"the arms' closures (resultants; powers of each closure's cos coefficient and of q^2 + E p^2 "

@@ -41,6 +41,7 @@ from symkin.kinds import Kind
 from symkin.model.labels import CoordinateLabel, OrientationLabel
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
+from symkin.tolerances import Tolerances
 
 __all__ = ["PoseSlice", "pose_slice", "pose_rows", "pose_condition", "translation_slice", "eliminate_arms"]
 
@@ -73,10 +74,11 @@ class PoseSlice:
 
     def __init__(self, mech: Mechanism, link: str, node: str, coords: list[CoordinateLabel],
                  height: CoordinateLabel, height_value, rotation_vector, arms: list[str] | None = None,
-                 geometry: float = 1e-6):
+                 geometry: float | None = None):
         self.mech, self.link, self.node = mech, link, node
-        self.geometry = geometry
+        self.geometry = Tolerances().geometry if geometry is None else geometry
         self.legs: list[ArmLeg] = []
+        self.arm_rows: list = []  # (leg, (C − B)·τ): zero where the arm turns with the platform still
         face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
         self.face = face
         self.variables = tuple(coordinate_symbol(AXES[c.axis], node) for c in coords)
@@ -149,6 +151,7 @@ class PoseSlice:
         self.legs.append(leg)
         # θ̇ |e|-scaled: μ = u·v / (u·τ), u = C − B of the first bar; each arm node moves with μ τ
         den = leg.reduce(u0.dot(taus[n0]))
+        self.arm_rows.append((leg, den))
         for n in free:
             self.velocity[n] = (taus[n] * u0.T).applyfunc(sp.expand)
             self.den[n] = den
@@ -414,6 +417,8 @@ def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.E
     removed: list = []
     for leg in ps.legs:
         ci, si = syms.index(leg.c), syms.index(leg.s)
+        if f.degree(gens[ci]) <= 0 and f.degree(gens[si]) <= 0:
+            continue
         e2 = sp.QQ(leg.e2.p, leg.e2.q)
         s = gens[si]
         by_c = _by_power(rng(sp.expand(leg.closure)), ci, rng)

@@ -201,8 +201,11 @@ def delta_model(scale: float = 1.0) -> symkin.Mechanism:
         "nodes": {n: [round(v * scale, 12) for v in x] for n, x in nodes.items()}})
 
 
-def delta_mode_dets(mech: symkin.Mechanism, x: float, y: float, z: float) -> list[float] | None:
-    """det[C_i − B_i] / Π|C_i − B_i| for the 8 working modes at P = (x, y, z); None where a leg does not reach."""
+def delta_mode_dets(mech: symkin.Mechanism, x: float, y: float, z: float, margins: bool = False):
+    """det[C_i − B_i] / Π|C_i − B_i| for the 8 working modes at P = (x, y, z); None where a leg does not reach.
+
+    ``margins``: instead, each leg's ``1 − |γ/ρ|`` (zero where its two elbow solutions meet: the bar
+    normal to the elbow's motion, type 1)."""
     q = {n: np.array(v, float) for n, v in mech.nodes}
     shift = np.array([x, y, z]) - q["P"]
     legs = []
@@ -219,10 +222,15 @@ def delta_mode_dets(mech: symkin.Mechanism, x: float, y: float, z: float) -> lis
         alpha, beta = 2 * (w @ perp), 2 * (w @ side)
         gamma = w @ w + perp @ perp - l2
         rho = math.hypot(alpha, beta)
+        if margins:
+            legs.append(1.0 - abs(gamma / rho))
+            continue
         if abs(gamma) > rho:
             return None
         phi, delta = math.atan2(beta, alpha), math.acos(gamma / rho)
         legs.append([c - (a + par + math.cos(th) * perp + math.sin(th) * side) for th in (phi + delta, phi - delta)])
+    if margins:
+        return legs
     out = []
     for d1 in legs[0]:
         for d2 in legs[1]:
@@ -246,12 +254,10 @@ def _real_roots_y(poly: sp.Expr, x: sp.Rational) -> list[float]:
 
 def test_delta_type2_locus_at_constant_height_is_the_bars_coplanarity_of_some_working_mode(delta_locus):
     mech, loci = delta_locus
-    assert not loci.skipped
     locus = loci[Kind.DKP_INPUT]
     assert len(locus.factors) == 1 and not locus.trivial
     f = locus.factors[0]
     assert f.degree == 48 and f.meaning.startswith("24-circular curve of degree 48")
-    assert loci[Kind.DKP_OUTPUT].factors == ()  # the output rows are the translation itself
     checked = off = 0
     for xv in (sp.Rational(-3, 10), sp.Rational(1, 10), sp.Rational(7, 20)):
         ys = _real_roots_y(f.polynomial, xv)
@@ -312,3 +318,21 @@ def test_delta_type2_locus_in_mm_is_the_metre_locus_scaled():
     assert pa.monoms() == pb.monoms()
     ratio = pb.LC() / pa.LC()
     assert all(cb == ratio * ca for ca, cb in zip(pa.coeffs(), pb.coeffs()))
+
+
+def test_delta_type1_locus_is_where_a_legs_two_elbows_meet(delta_locus):
+    """DKP-output (platform still, an arm turns): one quartic per leg (a section of the torus that the bar's
+    end sweeps), zero where that leg's two elbow solutions coincide."""
+    mech, loci = delta_locus
+    locus = loci[Kind.DKP_OUTPUT]
+    assert [f.degree for f in locus.factors] == [4, 4, 4] and not locus.trivial
+    assert any("IM locus: not derived" in s for s in loci.skipped)
+    for k, f in enumerate(locus.factors):
+        hits = set()
+        for xv in (sp.Rational(-3, 10), sp.Rational(1, 10)):
+            for y in _real_roots_y(f.polynomial, xv):
+                m = delta_mode_dets(mech, float(xv), y, DELTA_Z, margins=True)
+                leg = int(np.argmin(np.abs(m)))
+                assert abs(m[leg]) < 1e-9, (k, float(xv), y, m)
+                hits.add(leg)
+        assert len(hits) == 1  # one leg per factor
