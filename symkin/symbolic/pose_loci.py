@@ -132,9 +132,8 @@ class PoseSlice:
             taus[n] = -s * e2 * perp + c * w  # |e| dB/dθ
         bars = [(n, m) for name, ends in mech.links if len(ends) == 2
                 for n, m in (ends, ends[::-1]) if n in free and m in platform]
-        if not bars:
-            raise SymkinError(f"arm {arm!r} has no bar to the platform {self.link!r}: the translating-platform "
-                              "route places arms joined to the platform by bars only")
+        if len(bars) < 2:
+            raise _NotTranslating(f"arm {arm!r} has {len(bars)} bar(s) to {self.link!r}, not a parallelogram")
         leg = None
         for n, m in bars:
             l2 = sum((face[m][i] - face[n][i]) ** 2 for i in range(3))
@@ -145,9 +144,7 @@ class PoseSlice:
                 leg = ArmLeg(arm, c, s, e2, closure)
                 n0, u0 = n, u
             elif _differ(closure - leg.closure, (c, s), self.variables, mech.length_scale, self.geometry):
-                raise SymkinError(f"the bars of arm {arm!r} to {self.link!r} do not form a parallelogram (their "
-                                  "closures differ): the platform is not held to translation, the translating-"
-                                  "platform route does not apply")
+                raise _NotTranslating(f"the bars of arm {arm!r} to {self.link!r} do not form a parallelogram")
         self.legs.append(leg)
         # θ̇ |e|-scaled: μ = u·v / (u·τ), u = C − B of the first bar; each arm node moves with μ τ
         den = leg.reduce(u0.dot(taus[n0]))
@@ -335,6 +332,10 @@ def _differ(diff: sp.Expr, leg, xs, length: float, tol: float) -> bool:
     return any(abs(float(coeff)) > tol * length ** (2 - i - j + k) for (i, j, _, k), coeff in p.terms())
 
 
+class _NotTranslating(Exception):
+    """The mechanism is not a platform held to translation by parallelograms (the route does not apply)."""
+
+
 class ArmLeg:
     """One leg of a translating platform: an arm turning about a fixed axis ``A-A'`` whose node ``B``
     carries a bar ``B-C`` to the platform.  Its nodes are ``A + d_par + c d_perp + s (e × d)``
@@ -382,8 +383,13 @@ def translation_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: lis
     arm_nodes = {n for a in arms for n in mech.link_nodes(a)} - fixed
     if not arms or set(mech.free_nodes) != platform | arm_nodes or platform & arm_nodes:
         return None
-    return PoseSlice(mech, owners[0], node, coords, holds[0][0], holds[0][1], (0.0, 0.0, 0.0), arms=arms,
-                     geometry=geometry)
+    if mech.mobility_value != 3:
+        return None
+    try:
+        return PoseSlice(mech, owners[0], node, coords, holds[0][0], holds[0][1], (0.0, 0.0, 0.0), arms=arms,
+                         geometry=geometry)
+    except _NotTranslating:
+        return None
 
 
 def _by_power(p, i: int, ring) -> dict:

@@ -336,3 +336,23 @@ def test_delta_type1_locus_is_where_a_legs_two_elbows_meet(delta_locus):
                 assert abs(m[leg]) < 1e-9, (k, float(xv), y, m)
                 hits.add(leg)
         assert len(hits) == 1  # one leg per factor
+
+
+def test_delta_route_applies_only_to_parallelograms():
+    """A bar moved off its parallelogram (the platform could turn): the translating route declines."""
+    from symkin.model.labels import parse_label
+    from symkin.symbolic.loci import _LOCUS_LABELS
+    from symkin.symbolic.pose_loci import translation_slice
+    from symkin.tolerances import Tolerances
+
+    good = delta_model()
+    nodes = {n: list(v) for n, v in good.nodes}
+    nodes["C1b"][2] += 0.01
+    bad = good.with_coordinates(nodes)
+    for mech, applies in ((good, True), (bad, False)):
+        coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in ("velocity:P.x", "velocity:P.y")]
+        held = parse_label(mech, "velocity:P.z", "coordinate", _LOCUS_LABELS)
+        ps = translation_slice(mech, coords, [(held, None)], Tolerances().geometry)
+        assert (ps is not None) == applies
+        if applies:
+            assert [leg.link for leg in ps.legs] == ["arm1", "arm2", "arm3"]
