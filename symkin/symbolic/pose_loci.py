@@ -25,6 +25,14 @@ constant height parallel to theirs).  The DKP condition of the outputs is ``det(
 likewise.  The IM locus is not derived on this route (``V`` has full rank wherever the pose
 places the mechanism; an IM configuration needs ``|C − A| = 0``).
 
+A platform held to translation (a Delta: three arms on fixed axes, each joined to it by a
+parallelogram of two bars; :func:`translation_slice`) is sliced at a held height with no
+orientation hold: ``V`` is its translation, each arm's nodes are written in ``(c, s)`` of its
+angle (:class:`ArmLeg`) and move with the platform through their bar.  ``det(P V)`` is then
+linear in each arm's ``(c, s)``, and :func:`eliminate_arms` removes the angles with the arms'
+closures (resultants), leaving one polynomial in ``(x, y)`` that holds every working mode's
+type-2 curve.  Its size grows with the digits of the model's numbers.
+
 The numbers are the model's as written (exact rationals of its floats, no snapping): the
 locus does not rest on rational relations between them, and it equals the float model's
 locus exactly.
@@ -43,7 +51,7 @@ from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
 from symkin.tolerances import Tolerances
 
-__all__ = ["PoseSlice", "pose_slice", "pose_rows", "pose_condition", "translation_slice", "eliminate_arms"]
+__all__ = ["ArmLeg", "PoseSlice", "eliminate_arms", "pose_condition", "pose_rows", "pose_slice", "translation_slice"]
 
 
 def _q(v: float) -> sp.Rational:

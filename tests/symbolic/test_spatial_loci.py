@@ -11,6 +11,7 @@ confirmed by the numeric core (``symkin.analyze`` reports DKP-input there).
 """
 from __future__ import annotations
 
+import itertools
 import math
 import subprocess
 import sys
@@ -268,7 +269,7 @@ def test_delta_type2_locus_at_constant_height_is_the_bars_coplanarity_of_some_wo
                 continue
             checked += 1
             assert min(abs(d) for d in dets) < 1e-8, (float(xv), y, dets)
-        for y0, y1 in zip(ys[:-1], ys[1:]):
+        for y0, y1 in itertools.pairwise(ys):
             dets = delta_mode_dets(mech, float(xv), 0.5 * (y0 + y1), DELTA_Z)
             if dets is not None and abs(y1 - y0) > 1e-3:
                 off += 1
