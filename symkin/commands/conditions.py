@@ -40,7 +40,8 @@ def add_arguments(p) -> None:
                    help="give the singularity loci as implicit polynomials in these two coordinates "
                         "(labels as symkin map --x takes them, e.g. velocity:P.x,velocity:P.y)")
     p.add_argument("--hold", action="append", default=[], metavar="LABEL[=VALUE]",
-                   help="with --in: a held coordinate (F - 2 of them; default value: the model's)")
+                   help="with --in: a held coordinate (F - 2 of them; default value: the model's), as symkin "
+                        "map --hold takes them; a spatial link's orientation as rotation:<link>[x], [y], [z]")
     p.add_argument("--unit", choices=("deg", "rad"), default="deg",
                    help="with --in: unit of held angle values (default deg)")
 

@@ -55,17 +55,24 @@ def parse_values(items: list[str]) -> dict[str, float]:
     return out
 
 
-def _values(result, solution) -> dict:
-    """The prescribed coordinates and the model's outputs at a solution, relative and absolute.
-
-    ``{"values": {label: {"relative", "absolute"}}, "outputs": {...}, "kinds": {label: kind}}``
-    in the result's unit (the convention of :func:`symkin.paths.trace.relative_angle`).
-    """
+def _measures(result):
+    """The measures of the prescribed coordinates and of the model's outputs (built once per result:
+    0.4 s each on a Gough–Stewart)."""
     from symkin.paths.trace import CoordinateValues
 
     prescribed = CoordinateValues(result.mechanism, list(result.values))
     outputs = CoordinateValues(result.mechanism)
-    kinds = {c.label: c.kind for c in prescribed.coordinates + outputs.coordinates}
+    return prescribed, outputs, {c.label: c.kind for c in prescribed.coordinates + outputs.coordinates}
+
+
+def _values(result, solution, measures=None) -> dict:
+    """The prescribed coordinates and the model's outputs at a solution, relative and absolute.
+
+    ``{"values": {label: {"relative", "absolute"}}, "outputs": {...}, "kinds": {label: kind}}``
+    in the result's unit (the convention of :func:`symkin.paths.trace.relative_angle`);
+    ``measures`` from :func:`_measures` (made here when not given).
+    """
+    prescribed, outputs, kinds = measures or _measures(result)
     return {"values": prescribed(solution.configuration, result.unit),
             "outputs": outputs(solution.configuration, result.unit), "kinds": kinds}
 
@@ -73,8 +80,9 @@ def _values(result, solution) -> dict:
 def _json(result) -> dict:
     """``result.to_dict()`` with each solution's ``values`` and ``outputs`` (relative and absolute)."""
     data = result.to_dict()
+    measures = _measures(result) if result.solutions else None
     for item, s in zip(data["solutions"], result.solutions):
-        at = _values(result, s)
+        at = _values(result, s, measures)
         item["values"], item["outputs"] = at["values"], at["outputs"]
     return data
 
@@ -87,12 +95,13 @@ def _text(result) -> str:
                f"{result.at_infinity} at infinity, {result.rejected} rejected, {result.failed} failed; "
                f"{result.paths} paths ({result.method}) tracked in {result.track_seconds:.2f} s "
                f"({result.seconds:.2f} s in all).", ""]
+    measures = _measures(result) if result.solutions else None
     for k, s in enumerate(result.solutions, 1):
         signs = ", ".join(f"{key} {'' if v is None else ('+' if v > 0 else '-' if v < 0 else '0')}"
                           f"{'undefined' if v is None else ''}" for key, v in s.signs.items())
         kinds = f"; types: {', '.join(s.types)}" if s.types else ""
         lines.append(f"{k}. signs: {signs}{kinds}; residual {s.residual:.1e}")
-        at = _values(result, s)
+        at = _values(result, s, measures)
         for what, key in (("at", "values"), ("outputs:", "outputs")):
             if at[key]:
                 lines.append(f"   {what} {format_outputs(at[key], at['kinds'], result.unit)}")

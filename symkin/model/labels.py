@@ -13,8 +13,10 @@ from dataclasses import dataclass
 
 from symkin.errors import SymkinError
 from symkin.model.mechanism import AXES, Mechanism, Parameter
+from symkin.tolerances import DEFAULT
 
-__all__ = ["CoordinateLabel", "coordinate_labels", "accepted_labels", "parse_label", "parse_hold"]
+__all__ = ["CoordinateLabel", "coordinate_labels", "accepted_labels", "parse_label", "parse_hold",
+           "OrientationLabel", "parse_orientation_label", "parse_holds", "ORIENTATION_AXES"]
 
 
 @dataclass(frozen=True)
@@ -141,6 +143,70 @@ def accepted_text(mech: Mechanism, lead: str = "a path can be driven by") -> str
     return f"{lead} " + "; ".join(parts)
 
 
+#: the components of a spatial link's orientation label ``rotation:<link>[x|y|z]``
+ORIENTATION_AXES = ("x", "y", "z")
+
+
+@dataclass(frozen=True)
+class OrientationLabel:
+    """``rotation:<link>[x|y|z]``: a component of the rotation vector of a spatial link.
+
+    The rotation vector ``θ·n`` (fixed frame, an angle) of the rotation that takes the link
+    from its orientation in the model file to its current one, so that 0 is the model's
+    orientation.  ``nodes`` are the three nodes whose frame defines the orientation: the
+    link's first node, the node farthest from it, and the node farthest from their line.
+    ``symkin map --hold`` and ``symkin conditions --hold`` both read these labels here.
+    """
+
+    label: str
+    link: str
+    axis: int
+    nodes: tuple[str, str, str]
+    kind: str = "angle"
+
+
+def parse_orientation_label(mech: Mechanism, label: str) -> OrientationLabel | None:
+    """``rotation:<link>[x|y|z]`` of a spatial moving link, else None (not such a label).
+
+    Raises a :class:`SymkinError` when the label has this form but names no moving link,
+    an unknown component, or a link whose nodes are collinear (no orientation about their
+    line).
+
+    >>> from symkin.model.catalogue import get
+    >>> parse_orientation_label(get("five_bar"), "rotation:crank1") is None
+    True
+    """
+    kind, _, rest = str(label).partition(":")
+    if kind != "rotation" or mech.dim != 3 or not rest.endswith("]") or "[" not in rest:
+        return None
+    link, _, comp = rest[:-1].partition("[")
+    if link not in mech.moving_links:
+        raise SymkinError(f"{label!r}: {link!r} is not a moving link of {mech.name}")
+    if comp not in ORIENTATION_AXES:
+        raise SymkinError(f"{label!r}: the component must be one of x, y, z (rotation:{link}[x])")
+    xyz = dict(mech.nodes)
+    ns = list(mech.link_nodes(link))
+
+    def sub(a, b):
+        return [p - q for p, q in zip(xyz[a], xyz[b])]
+
+    def norm2(v):
+        return sum(c * c for c in v)
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    n0 = ns[0]
+    n1 = max(ns, key=lambda n: norm2(sub(n, n0)))
+    e = sub(n1, n0)
+    off = [norm2(cross(e, sub(n, n0))) ** 0.5 for n in ns]
+    n2 = ns[max(range(len(ns)), key=lambda k: off[k])]
+    if max(off) <= DEFAULT.geometry * norm2(e):
+        raise SymkinError(f"{label!r}: the nodes of link {link!r} are collinear; its orientation about "
+                          "their line is not defined")
+    return OrientationLabel(str(label), link, ORIENTATION_AXES.index(comp), (n0, n1, n2))
+
+
 def parse_hold(text: str) -> tuple[str, float | None]:
     """``"LABEL[=VALUE]"`` → ``(label, value or None)`` (the value in the user unit).
 
@@ -157,3 +223,15 @@ def parse_hold(text: str) -> tuple[str, float | None]:
         return label, float(value)
     except ValueError:
         raise SymkinError(f"--hold {text!r}: {value!r} is not a number") from None
+
+
+def parse_holds(hold) -> list[tuple[str, float | None]]:
+    """``--hold`` items (``"LABEL[=VALUE]"`` strings or ``(label, value)`` pairs) → ``(label, value)`` pairs.
+
+    The one reading of holds shared by ``symkin map`` and ``symkin conditions``.
+
+    >>> parse_holds(["velocity:O.z", ("rotation:platform[x]", 5)])
+    [('velocity:O.z', None), ('rotation:platform[x]', 5.0)]
+    """
+    return [parse_hold(h) if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1]))
+            for h in hold]

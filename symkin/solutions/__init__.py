@@ -10,7 +10,16 @@ mechanism (``symkin.singularities``).
 """
 from symkin.solutions.solve_all import Solution, Solutions, solve_all
 from symkin.solutions.system import PolynomialSystem, closure_system, position_system
-from symkin.solutions.circuits import Singularities, singularities
+
+
+def __getattr__(name):
+    """``Singularities`` and ``singularities`` on first use: ``symkin modes`` does not import the
+    circuit search (0.3 s of imports, scipy.optimize among them)."""
+    if name in ("Singularities", "singularities"):
+        from symkin.solutions import circuits
+
+        return getattr(circuits, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = ["PolynomialSystem", "Singularities", "Solution", "Solutions", "closure_system", "position_system",
            "singularities", "solve_all"]

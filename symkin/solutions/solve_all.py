@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from symkin.analysis.batch import evaluators_for
+from symkin.analysis.batch import BatchResult, evaluators_for, exact_indicators
 from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
@@ -177,19 +177,106 @@ def _newton(f, jac, u: np.ndarray, max_iterations: int = 30) -> tuple[np.ndarray
     return c.z, c.residual
 
 
+def _jacobian(eqs: list, unknowns: list) -> sp.Matrix:
+    """``∂eqs/∂unknowns``: each equation as a polynomial in the unknowns it contains, differentiated
+    as such (a Gough–Stewart's 39 × 39 in 0.4 s, where ``Matrix.jacobian`` takes 1.3-3 s of
+    sympy's expression derivatives on its 1,521 entries)."""
+    index = {s: k for k, s in enumerate(unknowns)}
+    entries = {}
+    for i, e in enumerate(eqs):
+        gens = [s for s in unknowns if s in e.free_symbols]
+        if not gens:
+            continue
+        try:
+            p = sp.Poly(e, *gens)
+        except sp.PolynomialError:  # not polynomial in them: sympy's derivative
+            entries.update({(i, index[s]): e.diff(s) for s in gens})
+            continue
+        entries.update({(i, index[s]): p.diff(s).as_expr() for s in gens})
+    return sp.Matrix(sp.SparseMatrix(len(eqs), len(unknowns), entries))
+
+
+#: bump when the cached source of the equations changes form
+_CHECKS_FORMAT = 1
+
+
+def _lambdified(eqs: list, u: list):
+    """``(f, jac)``: the equations and their Jacobian as NumPy functions of the vector ``u``."""
+    f = sp.lambdify([u], eqs or [sp.Integer(0)], "numpy", docstring_limit=0)  # no docstring: a third of the time
+    j = sp.lambdify([u], _jacobian(eqs, u) if eqs else sp.zeros(1, len(u)), "numpy", docstring_limit=0)
+    return f, j
+
+
+def _compiled_equations(system: PolynomialSystem, cache: bool):
+    """``(f, jac)`` of the system's original equations, NumPy functions of the unknowns' vector.
+
+    The equations that do not depend on the prescribed values (every owner but ``value:…``) are
+    the same at every query of a model: with ``cache`` their generated source is kept in the
+    artefact cache (``$SYMKIN_CACHE/query-checks/``, keyed by the equations' own text, so a
+    changed model or a changed system builder is a new key) and read back at a later query; the
+    value equations are made each time.  On the general 6-6 Gough–Stewart the cached part is 33
+    of its 39 equations.
+    """
+    import hashlib
+    import inspect
+
+    u = list(system.unknowns)
+    owned = list(system.equations)
+    base = [k for k, (o, _) in enumerate(owned) if not str(o).startswith("value:")]
+    rest = [k for k in range(len(owned)) if k not in set(base)]
+    fb = jb = None
+    path = None
+    if cache and base:
+        from symkin.numeric.codegen import cache_directory
+
+        text = "\n".join([f"format {_CHECKS_FORMAT} sympy {sp.__version__}", sp.sstr(u)]
+                         + [sp.sstr(owned[k][1]) for k in base])
+        path = cache_directory() / "query-checks" / f"{hashlib.sha256(text.encode()).hexdigest()[:32]}.py"
+        if path.exists():
+            try:
+                space: dict = dict(np.__dict__)
+                exec(compile(path.read_text(), str(path), "exec"), space)  # our own artefact
+                fb, jb = space["equations"], space["jacobian"]
+            except Exception:  # a damaged file is made again
+                fb = jb = None
+    if fb is None:
+        fb, jb = _lambdified([owned[k][1] for k in base], u)
+        if path is not None:
+            from symkin.numeric.codegen import write_atomic
+
+            try:
+                source = (inspect.getsource(fb).replace("def _lambdifygenerated(", "def equations(", 1) + "\n\n"
+                          + inspect.getsource(jb).replace("def _lambdifygenerated(", "def jacobian(", 1))
+                path.parent.mkdir(parents=True, exist_ok=True)
+                write_atomic(path, source)
+            except (OSError, TypeError):
+                pass  # no cache: the next query builds them again
+    if not rest:
+        return fb, jb
+    fv, jv = _lambdified([owned[k][1] for k in rest], u)
+    order = np.argsort(base + rest)
+
+    def f(v):
+        return np.concatenate([np.ravel(fb(v)), np.ravel(fv(v))])[order]
+
+    def j(v):
+        return np.vstack([np.reshape(jb(v), (len(base), len(u))), np.reshape(jv(v), (len(rest), len(u)))])[order]
+
+    return f, j
+
+
 class _Checks:
     """Newton, filters and the prescribed values, compiled once per system."""
 
-    def __init__(self, system: PolynomialSystem, prescribed):
+    def __init__(self, system: PolynomialSystem, prescribed, cache: bool = False):
         u = list(system.unknowns)
         eqs = [e for _, e in system.equations]
-        f = sp.lambdify([u], eqs, "numpy")
-        j = sp.lambdify([u], sp.Matrix(eqs).jacobian(u), "numpy")
+        f, j = _compiled_equations(system, cache)
         self.f = lambda v: np.array(f(v), float).ravel()
         self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
         self.fc = lambda v: np.array(f(v), complex).ravel()
         self.jc = lambda v: np.array(j(v), complex).reshape(len(eqs), len(u))
-        self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy")
+        self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy", docstring_limit=0)
         self.filters_c = lambda v: np.array(self.filters(v), complex)
         self.prescribed = prescribed
         self.system = system
@@ -385,7 +472,7 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
     t0 = time.perf_counter()
     tracked, points = track(starts)
     track_seconds = time.perf_counter() - t0
-    checks = _Checks(system, prescribed)
+    checks = _Checks(system, prescribed, cache=cache)
     sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
     if not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the
@@ -571,7 +658,13 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
     if not coords:
         return []
     q = np.array([[c[n][a] for n in mech.free_nodes for a in range(mech.dim)] for c in coords])
-    result = ev.batch(q, tol=tol)
+    if _kernel_ready(ev):
+        result = ev.batch(q, tol=tol)
+    else:
+        # the batch's own exact path (stacked SVD; the same J_S rows, signs and decisions), milliseconds,
+        # where building the batch kernel takes seconds on a large model (5 s on the 6-6 Gough–Stewart)
+        ex = exact_indicators(ev, q, tol)
+        result = BatchResult(**ex, path=np.full(len(q), 2, dtype=np.int8), tol=Tolerances.of(tol).rank)
     out = []
     scale = checks.system.scale
     for k, c in enumerate(coords):
@@ -585,3 +678,10 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
         analysis = _analyze(mech.with_coordinates(c), tol=tol) if do_analyze else None
         out.append(Solution(c, signs, float(residuals[k]), closure, result.types(k), counts[k], analysis))
     return out
+
+
+
+def _kernel_ready(ev) -> bool:
+    """Whether the evaluators' batch kernel is built (its lazy builder has run or was never needed)."""
+    return getattr(ev.functions, "_build", None) is None
+

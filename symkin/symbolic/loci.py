@@ -72,7 +72,7 @@ from symkin.constraints.algebra import Sympy
 from symkin.errors import SymkinError
 from symkin.kinds import LOCUS_KINDS, Kind
 from symkin.kinds import latex as latex_name
-from symkin.model.labels import CoordinateLabel, parse_hold, parse_label
+from symkin.model.labels import CoordinateLabel, OrientationLabel, parse_holds, parse_label, parse_orientation_label
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.symbolic.conditions import DerivationTimeout
@@ -553,6 +553,7 @@ def _substitute_linear(equations: list, unknowns: list, limit) -> tuple[dict, li
     """Solve equations linear in an unknown with a constant coefficient; substitute them."""
     subs: dict = {}
     eqs = [sp.expand(e) for e, _ in equations]
+    owners = [o for _, o in equations]
     changed = True
     while changed:
         changed = False
@@ -573,10 +574,13 @@ def _substitute_linear(equations: list, unknowns: list, limit) -> tuple[dict, li
                     break
             if changed:
                 break
-    for e in eqs:
+    for e, owner in zip(eqs, owners):
         if e.is_number and e != 0:
-            raise LociError("the closure with these variables and holds has no solution (inconsistent "
-                            "held values?)")
+            raise LociError(f"the equation of {owner} reduces to the nonzero constant {float(e):.3g} once the "
+                            "variables, holds and the equations linear in one coordinate are substituted: either "
+                            "the held values place no configuration, or that equation is redundant (a rigid link "
+                            "with more nodes than fix it, a parallelogram) and the model's numbers, snapped to exact "
+                            "values, make it disagree with the others by rounding")
     return subs, [e for e in eqs if e != 0]
 
 
@@ -936,9 +940,9 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
         raise SymkinError(f"unknown locus kind(s) {', '.join(unknown)}; use {', '.join(KINDS)}")
     tol = Tolerances.of(tolerances)
     coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in variables]
-    pairs = [parse_hold(h) if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1]))
-             for h in hold]
-    held = [parse_label(mech, label, "coordinate", _LOCUS_LABELS) for label, _ in pairs]
+    pairs = parse_holds(hold)
+    held = [parse_orientation_label(mech, label) or parse_label(mech, label, "coordinate", _LOCUS_LABELS)
+            for label, _ in pairs]
     labels = [c.label for c in coords + held]
     twice = sorted({lab for lab in labels if labels.count(lab) > 1})
     if twice:
@@ -952,6 +956,15 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
     if len(held) != f - 2:
         raise SymkinError(f"{mech.name}: F = {f}, so two variables need {f - 2} held coordinate(s) (--hold LABEL); "
                           f"{len(held)} given")
+    if any(isinstance(h, OrientationLabel) for h in held):
+        from symkin.symbolic.pose_loci import pose_slice
+        ps = pose_slice(mech, coords, [(h, v) for h, (_, v) in zip(held, pairs)], UNITS[unit])
+        return _pose_loci(mech, ps, coords, held, kinds, time_limit, tol)
+    if mech.dim == 3:
+        from symkin.symbolic.pose_loci import translation_slice
+        ps = translation_slice(mech, coords, [(h, v) for h, (_, v) in zip(held, pairs)], tol.geometry)
+        if ps is not None:
+            return _pose_loci(mech, ps, coords, held, kinds, time_limit, tol)
     sys = _build(mech, snap_model(mech, tol))
     xs = tuple(_variable_symbol(mech, c) for c in coords)
     extra = []
@@ -989,6 +1002,92 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
         loci.append(locus)
     return Loci(xs, tuple(c.label for c in coords), tuple(c.label for c in held), tuple(loci), tuple(skipped),
                 mech.name, sys.snap)
+
+
+def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
+    """The loci of a spatial platform at a held orientation (:mod:`symkin.symbolic.pose_loci`)."""
+    from symkin.symbolic.model import symbolic_model
+    from symkin.symbolic.pose_loci import eliminate_arms, pose_condition
+
+    xs = ps.variables
+    face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
+    snap = snap_model(mech, tol)
+    sys = _System(mech, {}, face, [], {}, snap)
+    sm = symbolic_model(mech, coordinates="nodes")
+    loci: list[Locus] = []
+    skipped: list[str] = []
+    for kind in [k for k in KINDS if k in kinds]:
+        t0 = time.perf_counter()
+        if kind == Kind.IM:
+            text = ("no curve: every configuration of the slice is placed by the pose, each leg node in closed "
+                    "form where its leg has a length (|C - A| > 0), and moves with the platform's six twists: "
+                    "L = F on the slice")
+            if ps.legs:
+                skipped.append("IM locus: not derived on the translating-platform route (each arm is placed by its "
+                               "angle; an IM configuration of the Delta needs a bar of zero length or an arm on its "
+                               "axis)")
+                continue
+            loci.append(Locus(kind, (), (), time.perf_counter() - t0, text))
+            continue
+        try:
+            with _limit(kind, time_limit) as limit:
+                det, contents = pose_condition(sm, ps, kind)
+                _poll(limit)
+                if ps.legs and kind == Kind.DKP_OUTPUT and det.is_number and det != 0:
+                    # outputs locked (the platform still): arm i turns alone where its bar is normal to its motion
+                    det = sp.Mul(*[eliminate_arms(den, ps, lambda: _poll(limit))[0] for _, den in ps.arm_rows])
+                eliminated = ps.legs and det != 0 and any(det.has(leg.c, leg.s) for leg in ps.legs)
+                if eliminated:
+                    det, _ = eliminate_arms(det, ps, lambda: _poll(limit))  # its divided-out factors are no locus
+                if det == 0:
+                    loci.append(Locus(kind, (), (), time.perf_counter() - t0,
+                                      "the condition holds on the whole slice", True))
+                    continue
+                total = sp.Mul(det, *contents)
+                geometric, trivial = (_with_normalised(fs, xs) for fs in _factors(total, xs, sys))
+        except DerivationTimeout as exc:
+            text = str(exc) if "locus" in str(exc) else f"{kind} locus: {exc}"
+            if ps.legs:
+                text += ("; the arms' elimination grows with the digits of the model's numbers (exact rationals of "
+                         "its floats: 16 digits for cos 120 deg), a model typed with short decimals derives in "
+                         "seconds")
+            skipped.append(text)
+            continue
+        except (LociError, SymkinError) as exc:
+            skipped.append(f"{kind} locus: {exc}")
+            continue
+        which = kind.split("-")[1]
+        if ps.legs and kind == Kind.DKP_OUTPUT:
+            note = (f"{ps.link!r} still (outputs locked): arm i turns alone where (C_i - B_i).(dB_i/dtheta_i)"
+                    f" = 0, its angle eliminated with its closure (resultant); one factor set per arm")
+        elif ps.legs:
+            note = (f"det(P V) = 0: the {which} rows over the translation of {ps.link} (its parallelograms keep "
+                    f"its orientation), each arm's nodes in (cos, sin) of its angle, the angles eliminated with "
+                    f"the arms' closures (resultants; powers of each closure's cos coefficient and of q^2 + E p^2 "
+                    f"divided out): every working mode's curve; zero where a motion is left with the {which}s "
+                    f"locked")
+        else:
+            note = (f"det(P V) = 0: the {which} rows over the platform's twist at {ps.node} (orientation of "
+                    f"{ps.link} held), each leg placed in closed form; zero where a motion is left with the "
+                    f"{which}s locked")
+        loci.append(Locus(kind, tuple(geometric), tuple(trivial), time.perf_counter() - t0, note))
+    return Loci(xs, tuple(c.label for c in coords), tuple(h.label for h in held), tuple(loci), tuple(skipped),
+                mech.name, None)
+
+
+def _with_normalised(factors: list, xs) -> list:
+    """Factors whose integer coefficients are long get their monic form (6 digits) in the meaning."""
+    out = []
+    for f in factors:
+        p = sp.Poly(f.polynomial, *xs)
+        if max(len(str(abs(c))) for c in p.coeffs()) > 12:
+            lc = max(p.coeffs(), key=abs)
+            text = " + ".join(f"{float(c / lc):.6g}*{sp.sstr(sp.Mul(*[g ** k for g, k in zip(xs, m)]))}"
+                              for m, c in p.terms()).replace("*1 ", " ").replace("+ -", "- ")
+            text = text[:-2] if text.endswith("*1") else text
+            f = LocusFactor(f.polynomial, f.degree, f"{f.meaning}; normalised: {text}", f.exponent, f.trivial)
+        out.append(f)
+    return out
 
 
 def _check_square(sys, equations, symbols, coords, held, tol: Tolerances) -> None:

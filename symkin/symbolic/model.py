@@ -232,6 +232,10 @@ class SymbolicModel:
             return sp.zeros(0, self.ncoord), ()
         return sp.Matrix([self._row_vector(r) for r in rows]), tuple(r.owner for r in rows)
 
+    def parameter_symrows(self, params) -> list[SymRow]:
+        """The rows of the kinematic parameters ``params`` as :class:`SymRow` (polynomial blocks, a scale)."""
+        return self._parameter_symrows(params)
+
     def _parameter_symrows(self, params) -> list[SymRow]:
         out = []
         for p in params:

@@ -47,8 +47,9 @@ def _relative(p: sp.Poly, x: float, y: float) -> tuple[float, float]:
 
 def _real_roots(p: sp.Poly) -> list[float]:
     """The (numerically) real roots of a univariate polynomial, by its companion matrix."""
-    coeffs = np.array([float(c) for c in p.all_coeffs()])
-    coeffs = coeffs / np.max(np.abs(coeffs))
+    exact = p.all_coeffs()
+    big = max(abs(c) for c in exact)  # scaled exactly first: long integer coefficients overflow a float
+    coeffs = np.array([float(c / big) for c in exact])
     return [float(r.real) for r in np.roots(coeffs) if abs(r.imag) <= ROOT * (1 + abs(r))]
 
 

@@ -77,7 +77,7 @@ from symkin.analysis.batch import Evaluators, evaluators_for
 from symkin.constraints import slider_constraint
 from symkin.constraints.algebra import FLOATS
 from symkin.errors import SymkinError
-from symkin.model.labels import parse_hold  # noqa: F401  (moved to the model stage; re-exported)
+from symkin.model.labels import parse_hold, parse_holds, parse_orientation_label  # parse_hold re-exported
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.linalg import independent_rows
 from symkin.numeric.coordinates import InputCoordinate, accepted_input_labels, parse_input_label
@@ -136,7 +136,6 @@ def _offset(mech: Mechanism, c: InputCoordinate, x0: np.ndarray) -> float:
     return 0.0
 
 
-_ORIENTATION_AXES = ("x", "y", "z")
 #: below this ``1 − cos θ`` the factor θ / sin θ of the rotation vector is its series (error ~1e-16)
 _SERIES_BELOW = 1e-5
 
@@ -185,27 +184,13 @@ class OrientationComponent:
 
 
 def _orientation_component(mech: Mechanism, label: str) -> OrientationComponent | None:
-    """``rotation:<link>[x|y|z]`` of a spatial moving link with three non-collinear nodes, else None."""
-    kind, _, rest = label.partition(":")
-    if kind != "rotation" or mech.dim != 3 or not rest.endswith("]") or "[" not in rest:
+    """``rotation:<link>[x|y|z]`` of a spatial moving link (read by :func:`symkin.model.labels.parse_orientation_label`,
+    the one definition ``conditions`` uses too), else None."""
+    o = parse_orientation_label(mech, label)
+    if o is None:
         return None
-    link, _, comp = rest[:-1].partition("[")
-    if link not in mech.moving_links:
-        raise SymkinError(f"{label!r}: {link!r} is not a moving link of {mech.name}")
-    if comp not in _ORIENTATION_AXES:
-        raise SymkinError(f"{label!r}: the component must be one of x, y, z (rotation:{link}[x])")
     idx = mech.node_index()
-    xyz = np.array([c for _, c in mech.nodes], float)
-    ks = [idx[n] for n in mech.link_nodes(link)]
-    k0 = ks[0]
-    k1 = max(ks, key=lambda k: float(np.linalg.norm(xyz[k] - xyz[k0])))
-    e = xyz[k1] - xyz[k0]
-    off = [float(np.linalg.norm(np.cross(e, xyz[k] - xyz[k0]))) for k in ks]
-    k2 = ks[int(np.argmax(off))]
-    if max(off) <= DEFAULT.geometry * float(np.dot(e, e)):
-        raise SymkinError(f"{label!r}: the nodes of link {link!r} are collinear; its orientation about "
-                          "their line is not defined")
-    return OrientationComponent(label, link, _ORIENTATION_AXES.index(comp), (k0, k1, k2))
+    return OrientationComponent(o.label, o.link, o.axis, tuple(idx[n] for n in o.nodes))
 
 
 def map_coordinate(mech: Mechanism, label: str) -> MapCoordinate:
@@ -540,8 +525,7 @@ def map_system(mech: Mechanism, x: str, y: str, hold=(), unit: str = "deg",
         raise SymkinError(f"{mech.name}: mobility F = {f}; a map needs F >= 2 (two axis coordinates), "
                           "use symkin path for F = 1")
     axes = (map_coordinate(mech, x), map_coordinate(mech, y))
-    pairs = [parse_hold(h) if isinstance(h, str) else (str(h[0]), None if h[1] is None else float(h[1]))
-             for h in hold]
+    pairs = parse_holds(hold)
     holds = tuple(map_coordinate(mech, label) for label, _ in pairs)
     seen: dict[str, str] = {}
     for c in axes + holds:

@@ -438,11 +438,6 @@ def test_gough_stewart_plucker_locus_is_a_conic_for_planar_base_and_platform():
     assert max(abs(float(c)) for m, c in det.terms() if sum(m) == 2) > 1e-3 * top
 
 
-@pytest.mark.skip(reason="spatial loci are not eliminated yet: implicit_loci takes no orientation hold "
-                         "(rotation:<link>[x|y|z] is parsed in symkin/workspace/system.py, a later stage than "
-                         "symkin/symbolic), and the 6-6's DKP-input condition in nodal coordinates (39 unknowns): "
-                         "SymbolicModel.dkp_condition had not finished after 5 minutes and 8 GB, past its "
-                         "240 s time limit (issue 17 §5)")
 def test_gough_stewart_type2_locus_against_the_plucker_determinant():
     mech = symkin.read_model(GOUGH)
     holds = ("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]")

@@ -1,0 +1,475 @@
+"""Singularity loci of a spatial platform at a held orientation, in its pose coordinates (issue 17 §5).
+
+``symkin conditions MODEL --in velocity:O.x,velocity:O.y --hold velocity:O.z --hold
+'rotation:platform[x]' --hold 'rotation:platform[y]' --hold 'rotation:platform[z]'`` (O a node
+of the platform link): the holds enter the velocity problem *before* any determinant is
+formed.  The configuration is written in the platform's pose: ``O = (x, y, z_h)`` and every
+platform node ``X_n = O + R_h (X_n⁰ − O⁰)`` (``R_h`` the held rotation from the model's
+orientation, the rotation vector of :class:`symkin.model.labels.OrientationLabel`), so each
+is linear in ``(x, y)``.  The motion space is parametrised by the platform's twist
+``(v, ω)`` at O: a platform node moves with ``v + ω × (X_n − O)``.  A leg node that is not on
+the platform — the far end ``D`` of a bar ``A-D`` from a fixed joint ``A`` that carries the
+line of a slider whose node ``C`` is on the platform (a prismatic leg) — is
+``D = A + λ (C − A)`` with ``λ² |C − A|² = l²``, and moves with
+``λ (Ċ − u (u·Ċ)/(u·u))``, ``u = C − A``.  These columns ``V`` span the motion space.
+
+The DKP condition of the inputs (type 2) is then ``det(P V) = 0``, ``P`` the model's input
+rows over the nodal velocities (the one definition, :mod:`symkin.symbolic.rows`): a 6 × 6
+determinant whose rows are polynomials in ``(x, y)`` once ``λ`` is reduced with its
+relation (``λ²`` → ``l²/(u·u)``) and each row's content (a product of nonzero factors such
+as ``u·u`` and ``λ``) is taken out; the contents' factors are kept as factors of the locus
+(a trivial one has no real point).  For a Gough–Stewart platform the rows are the legs'
+Plücker lines ``(u_k, (C_k − O) × u_k)`` and the locus is the cubic of Mayer St-Onge &
+Gosselin (2000) for a general 6-6, a conic when the base joints are coplanar (the plane of
+constant height parallel to theirs).  The DKP condition of the outputs is ``det(P_out V)``
+likewise.  The IM locus is not derived on this route (``V`` has full rank wherever the pose
+places the mechanism; an IM configuration needs ``|C − A| = 0``).
+
+A platform held to translation (a Delta: three arms on fixed axes, each joined to it by a
+parallelogram of two bars; :func:`translation_slice`) is sliced at a held height with no
+orientation hold: ``V`` is its translation, each arm's nodes are written in ``(c, s)`` of its
+angle (:class:`ArmLeg`) and move with the platform through their bar.  ``det(P V)`` is then
+linear in each arm's ``(c, s)``, and :func:`eliminate_arms` removes the angles with the arms'
+closures (resultants), leaving one polynomial in ``(x, y)`` that holds every working mode's
+type-2 curve.  Its size grows with the digits of the model's numbers.
+
+The numbers are the model's as written (exact rationals of its floats, no snapping): the
+locus does not rest on rational relations between them, and it equals the float model's
+locus exactly.
+"""
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from symkin.errors import SymkinError
+from symkin.kinds import Kind
+from symkin.model.labels import CoordinateLabel, OrientationLabel
+from symkin.model.mechanism import AXES, Mechanism
+from symkin.symbolic.symbols import coordinate_symbol, length_symbol
+from symkin.tolerances import Tolerances
+
+__all__ = ["ArmLeg", "PoseSlice", "eliminate_arms", "pose_condition", "pose_rows", "pose_slice", "translation_slice"]
+
+
+def _q(v: float) -> sp.Rational:
+    return sp.Rational(repr(float(v)))
+
+
+def _rotation(vector) -> list[list[float]]:
+    """Rodrigues: the rotation matrix of the rotation vector ``θ·n`` (radians)."""
+    th = math.sqrt(sum(c * c for c in vector))
+    if th == 0.0:
+        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    n = [c / th for c in vector]
+    k = [[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]]
+    kk = [[sum(k[i][m] * k[m][j] for m in range(3)) for j in range(3)] for i in range(3)]
+    s, c = math.sin(th), 1.0 - math.cos(th)
+    return [[(1.0 if i == j else 0.0) + s * k[i][j] + c * kk[i][j] for j in range(3)] for i in range(3)]
+
+
+class PoseSlice:
+    """The slice of a spatial mechanism at a held platform orientation and height, in its pose.
+
+    Attributes: ``link`` (the platform), ``node`` (O, whose coordinates are the variables and
+    the held one), ``variables`` (the two symbols ``x_O``, ``y_O``), ``position`` (node → its
+    exact position, polynomials in the variables and the leg symbols ``lam_<node>``),
+    ``velocity`` (node → 3 × 6 matrix: its velocity over the platform twist ``(v, ω)`` at O, with
+    the denominators ``den`` of leg nodes), ``relations`` (``lam`` → ``(l², u·u)``).
+    """
+
+    def __init__(self, mech: Mechanism, link: str, node: str, coords: list[CoordinateLabel],
+                 height: CoordinateLabel, height_value, rotation_vector, arms: list[str] | None = None,
+                 geometry: float | None = None):
+        self.mech, self.link, self.node = mech, link, node
+        self.geometry = Tolerances().geometry if geometry is None else geometry
+        self.legs: list[ArmLeg] = []
+        self.arm_rows: list = []  # (leg, (C − B)·τ): zero where the arm turns with the platform still
+        face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
+        self.face = face
+        self.variables = tuple(coordinate_symbol(AXES[c.axis], node) for c in coords)
+        o = list(face[node])
+        for c, s in zip(coords, self.variables):
+            o[c.axis] = s
+        o[height.axis] = face[node][height.axis] if height_value is None else _q(height_value)
+        rot = _rotation(rotation_vector)
+        turned = any(v != 0.0 for v in rotation_vector)
+        platform = set(mech.link_nodes(link))
+        self.position: dict = {}
+        self.velocity: dict = {}
+        self.den: dict = {}
+        self.relations: dict = {}
+        for n in mech.fixed:
+            self.position[n] = sp.Matrix(face[n])
+        for n in platform:
+            d0 = [face[n][a] - face[node][a] for a in range(3)]
+            if turned:
+                d0 = [_q(sum(rot[a][b] * float(d0[b]) for b in range(3))) for a in range(3)]
+            d = sp.Matrix(d0)
+            self.position[n] = sp.Matrix(o) + d
+            skew = sp.Matrix([[0, d[2], -d[1]], [-d[2], 0, d[0]], [d[1], -d[0], 0]])  # ω × d = −[d]× ω
+            self.velocity[n] = sp.eye(3) if arms else sp.Matrix.hstack(sp.eye(3), skew)
+            self.den[n] = sp.Integer(1)
+        for k, arm in enumerate(arms or ()):
+            self._arm(arm, k + 1, face, platform)
+        for n in mech.free_nodes if not arms else ():
+            if n in platform:
+                continue
+            self._leg_node(n, face)
+
+    def _arm(self, arm: str, k: int, face, platform) -> None:
+        """The nodes of an arm turning about its two fixed nodes, over the platform's translation."""
+        mech = self.mech
+        fixed = set(mech.fixed)
+        ns = mech.link_nodes(arm)
+        a, a2 = [n for n in ns if n in fixed]
+        free = [n for n in ns if n not in fixed]
+        c, s = sp.symbols(f"c_{k} s_{k}", real=True)
+        e = sp.Matrix([face[a2][i] - face[a][i] for i in range(3)])
+        e2 = e.dot(e)
+        pa = sp.Matrix(face[a])
+        taus = {}
+        for n in free:
+            d = sp.Matrix([face[n][i] - face[a][i] for i in range(3)])
+            par = e * (e.dot(d) / e2)
+            perp = d - par
+            w = e.cross(d)
+            self.position[n] = pa + par + c * perp + s * w
+            taus[n] = -s * e2 * perp + c * w  # |e| dB/dθ
+        bars = [(n, m) for name, ends in mech.links if len(ends) == 2
+                for n, m in (ends, ends[::-1]) if n in free and m in platform]
+        if len(bars) < 2:
+            raise _NotTranslating(f"arm {arm!r} has {len(bars)} bar(s) to {self.link!r}, not a parallelogram")
+        leg = None
+        for n, m in bars:
+            l2 = sum((face[m][i] - face[n][i]) ** 2 for i in range(3))
+            u = self.position[m] - self.position[n]
+            probe = ArmLeg(arm, c, s, e2, sp.Integer(0))
+            closure = probe.reduce(u.dot(u) - l2)
+            if leg is None:
+                leg = ArmLeg(arm, c, s, e2, closure)
+                n0, u0 = n, u
+            elif _differ(closure - leg.closure, (c, s), self.variables, mech.length_scale, self.geometry):
+                raise _NotTranslating(f"the bars of arm {arm!r} to {self.link!r} do not form a parallelogram")
+        self.legs.append(leg)
+        # θ̇ |e|-scaled: μ = u·v / (u·τ), u = C − B of the first bar; each arm node moves with μ τ
+        den = leg.reduce(u0.dot(taus[n0]))
+        self.arm_rows.append((leg, den))
+        for n in free:
+            self.velocity[n] = (taus[n] * u0.T).applyfunc(sp.expand)
+            self.den[n] = den
+
+    def _leg_node(self, n: str, face) -> None:
+        """``D = A + λ (C − A)``: the end of a bar from a fixed joint carrying a slider's line to the platform."""
+        mech = self.mech
+        fixed = set(mech.fixed)
+        for s in mech.sliders:
+            if s.line is None or n not in s.line or s.node not in self.velocity:
+                continue
+            a = s.line[0] if s.line[1] == n else s.line[1]
+            if a not in fixed:
+                continue
+            bar = [name for name, ns in mech.links if set(ns) == {a, n}]
+            if not bar:
+                continue
+            e0 = [face[n][k] - face[a][k] for k in range(3)]
+            l2 = sum(c * c for c in e0)
+            lam = sp.Symbol(f"lam_{n}", positive=True)
+            pa, pc = self.position[a], self.position[s.node]
+            u = pc - pa
+            uu = sp.expand(u.dot(u))
+            self.position[n] = pa + lam * u
+            vc = self.velocity[s.node]  # Ċ over the twist
+            # Ḋ·(u·u) = λ ((u·u) Ċ − u (u·Ċ)): D keeps its distance l from A on the line A-C
+            self.velocity[n] = (lam * (uu * vc - u * (u.T * vc))).applyfunc(sp.expand)
+            self.den[n] = uu
+            self.relations[lam] = (l2, uu, bar[0])
+            return
+        raise SymkinError(f"node {n} is neither on the platform {self.link!r} nor the end of a bar from a fixed "
+                          "joint that carries a slider's line to the platform: the pose route places legs of "
+                          "prismatic (SPS, UPS) type only")
+
+    def substitutions(self) -> dict:
+        """Node coordinate symbols → their expressions in the pose."""
+        out = {}
+        for n, p in self.position.items():
+            for a in range(3):
+                out[coordinate_symbol(AXES[a], n)] = p[a]
+        return out
+
+
+def pose_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: list, unit_factor: float) -> PoseSlice | None:
+    """The pose slice named by ``coords`` (two labels) and ``holds`` (``(label object, value)``), or
+    None when the holds do not hold a spatial link's whole orientation.
+
+    ``holds`` pairs a :class:`CoordinateLabel` or :class:`OrientationLabel` with its value in the
+    user's unit (None: the model's).  The variables must be two coordinates of one node O of the
+    held link; the third held.
+    """
+    orient = [(h, v) for h, v in holds if isinstance(h, OrientationLabel)]
+    if mech.dim != 3 or not orient:
+        return None
+    links = {h.link for h, _ in orient}
+    if len(links) != 1 or sorted(h.axis for h, _ in orient) != [0, 1, 2]:
+        raise SymkinError("a locus at constant orientation holds all three components rotation:<link>[x], "
+                          "rotation:<link>[y], rotation:<link>[z] of one link; got "
+                          + ", ".join(h.label for h, _ in orient))
+    link = links.pop()
+    others = [(h, v) for h, v in holds if not isinstance(h, OrientationLabel)]
+    nodes = {c.parameter.target[0] for c in coords if c.parameter.kind == "velocity"}
+    if len(nodes) != 1 or len(coords) != 2 or any(c.parameter.kind != "velocity" for c in coords):
+        raise SymkinError(f"at a held orientation of {link!r} the two variables are coordinates of one of its "
+                          "nodes (velocity:O.x,velocity:O.y)")
+    node = nodes.pop()
+    if node not in mech.link_nodes(link):
+        raise SymkinError(f"node {node} is not a node of the held link {link!r}")
+    third = [(c, v) for c, v in others if c.parameter.kind == "velocity" and c.parameter.target[0] == node
+             and c.axis not in {k.axis for k in coords}]
+    if len(others) != 1 or len(third) != 1:
+        raise SymkinError(f"at a held orientation of {link!r} the holds are its three orientation components and "
+                          f"the third coordinate of {node} (e.g. velocity:{node}.z); got "
+                          + ", ".join(h.label for h, _ in holds))
+    height, hv = third[0]
+    vec = [0.0, 0.0, 0.0]
+    for h, v in orient:
+        vec[h.axis] = 0.0 if v is None else float(v) * unit_factor
+    return PoseSlice(mech, link, node, coords, height, hv, vec)
+
+
+def _reduce_lambda(entries: list, relations: dict) -> list:
+    """``λ² → l²/(u·u)`` in a row (the same power of ``u·u`` multiplies every entry); an odd power
+    common to the row is taken out."""
+    for lam, (l2, uu, _) in relations.items():
+        if not any(e.has(lam) for e in entries):
+            continue
+        polys = [sp.Poly(e, lam) for e in entries]
+        top = max(p.degree() // 2 for p in polys)
+        out, odd = [], set()
+        for p in polys:
+            acc = sp.Integer(0)
+            for (k,), c in p.terms():
+                m, r = divmod(k, 2)
+                acc += c * lam ** r * l2 ** m * uu ** (top - m)
+                if c != 0:
+                    odd.add(r)
+            out.append(sp.expand(acc))
+        if odd == {1}:
+            out = [sp.expand(e / lam) for e in out]
+        elif odd == {0, 1}:
+            raise SymkinError(f"a row mixes even and odd powers of {lam}: the pose route cannot reduce it")
+        entries = out
+    return entries
+
+
+def pose_rows(sm, ps: PoseSlice, params) -> tuple[list[list[sp.Expr]], list[sp.Expr]]:
+    """The rows of ``params`` over the platform twist, ``P V``, as polynomials in the variables.
+
+    Returns ``(rows, contents)``: each row divided by its content (the gcd of its entries, a
+    nonzero factor wherever the row is defined, kept in ``contents`` to be factored).
+    """
+    subs = ps.substitutions()
+    lengths = {length_symbol(name): sp.sqrt(sum((ps.face[ns[1]][a] - ps.face[ns[0]][a]) ** 2 for a in range(3)))
+               for name, ns in ps.mech.links}
+    names = ps.mech.node_names
+    rows, contents = [], []
+    for r in sm.parameter_symrows(params):
+        acc = sp.zeros(1, 3 if ps.legs else 6)
+        dens = []
+        blocks = r.block_vectors()
+        for k, vec in blocks.items():
+            n = names[k]
+            if n not in ps.velocity:
+                continue
+            dens.append(ps.den[n])
+        common = sp.Mul(*dens)
+        for k, vec in blocks.items():
+            n = names[k]
+            if n not in ps.velocity:
+                continue
+            v = sp.Matrix([[sp.sympify(c).xreplace(lengths) for c in vec]]).xreplace(subs)
+            acc += v * ps.velocity[n] * sp.cancel(common / ps.den[n])
+        entries = [sp.expand(sm.substitute_design(e)) for e in acc]
+        legs = {x for leg in ps.legs for x in (leg.c, leg.s)}
+        extra = set().union(*[e.free_symbols for e in entries]) - set(ps.variables) - set(ps.relations) - legs
+        if extra:
+            raise SymkinError(f"row {r.owner}: symbols {', '.join(sorted(map(str, extra)))} left in the pose")
+        entries = _reduce_lambda(entries, ps.relations)
+        for leg in ps.legs:
+            entries = [leg.reduce(e) for e in entries]
+        gens = ps.variables + tuple(x for leg in ps.legs for x in (leg.c, leg.s))
+        polys = [sp.Poly(e, *gens, domain="QQ") for e in entries]
+        nonzero = [p for p in polys if not p.is_zero]
+        if not nonzero:
+            rows.append([sp.Integer(0)] * len(entries))
+            contents.append(sp.Integer(1))
+            continue
+        g = nonzero[0]
+        for p in nonzero[1:]:
+            g = g.gcd(p)
+        rows.append([p.exquo(g).as_expr() if not p.is_zero else sp.Integer(0) for p in polys])
+        contents.append(g.as_expr())
+    return rows, contents
+
+
+def pose_condition(sm, ps: PoseSlice, kind: str) -> tuple[sp.Expr, list[sp.Expr]]:
+    """``det(P V)`` of the inputs (``DKP-input``) or outputs (``DKP-output``) over the twist:
+    ``(determinant of the reduced rows, the rows' contents)``, polynomials in the variables."""
+    mech = ps.mech
+    params = mech.inputs if kind == Kind.DKP_INPUT else mech.outputs
+    rows, contents = pose_rows(sm, ps, params)
+    n = 3 if ps.legs else 6
+    if len(rows) != n:
+        raise SymkinError(f"{kind}: {len(rows)} rows over the platform's {n} twist components; the pose route "
+                          "forms a square determinant only")
+    gens = ps.variables + tuple(x for leg in ps.legs for x in (leg.c, leg.s))
+    dom = sp.QQ[gens]
+    m = DomainMatrix([[dom.from_sympy(sp.sympify(e)) for e in row] for row in rows], (n, n), dom)
+    det = dom.to_sympy(m.det())
+    return sp.expand(det), contents
+
+
+# ------------------------------------------------------------------ translating platform (Delta)
+
+
+def _differ(diff: sp.Expr, leg, xs, length: float, tol: float) -> bool:
+    """A closure difference (a length²) larger than rounding: each coefficient, in units of the
+    model's ``length`` scale (``x``, ``y``: a length; ``c``: 1; ``s``: 1/length), against ``tol``."""
+    p = sp.Poly(sp.expand(diff), *xs, *leg)
+    return any(abs(float(coeff)) > tol * length ** (2 - i - j + k) for (i, j, _, k), coeff in p.terms())
+
+
+class _NotTranslating(Exception):
+    """The mechanism is not a platform held to translation by parallelograms (the route does not apply)."""
+
+
+class ArmLeg:
+    """One leg of a translating platform: an arm turning about a fixed axis ``A-A'`` whose node ``B``
+    carries a bar ``B-C`` to the platform.  Its nodes are ``A + d_par + c d_perp + s (e × d)``
+    (``e = A' − A``, ``d`` a node's model offset from ``A``), with ``c² + E s² = 1``, ``E = e·e``
+    (``c = cos θ``, ``s = sin θ / |e|``).  ``closure`` is ``|C − B|² − l²``, linear in ``(c, s)``
+    once reduced with the relation."""
+
+    def __init__(self, link: str, c: sp.Symbol, s: sp.Symbol, e2: sp.Rational, closure: sp.Expr):
+        self.link, self.c, self.s, self.e2, self.closure = link, c, s, e2, closure
+
+    def reduce(self, expr: sp.Expr) -> sp.Expr:
+        """``c² → 1 − E s²`` until ``expr`` has degree ≤ 1 in ``c``."""
+        p = sp.Poly(sp.expand(expr), self.c)
+        out = sp.Integer(0)
+        for (k,), coeff in p.terms():
+            m, r = divmod(k, 2)
+            out += coeff * self.c ** r * (1 - self.e2 * self.s ** 2) ** m
+        return sp.expand(out)
+
+
+def translation_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: list,
+                      geometry: float) -> PoseSlice | None:
+    """The slice of a translating platform (a Delta: three arms on fixed axes, each joined to the
+    platform by a parallelogram of two bars) at a held height of one of its nodes, in its pose; None
+    when the mechanism is not of that kind (then the node-coordinate route applies).
+
+    The platform is taken at its model orientation; that it only translates rests on the
+    parallelograms, checked here: the closures of an arm's bars must be the same polynomial (to
+    ``geometry``, the relative tolerance of model geometry: the model's numbers are rounded).
+    """
+    if mech.dim != 3 or len(coords) != 2 or len(holds) != 1 or mech.sliders:
+        return None
+    if any(c.parameter.kind != "velocity" for c in coords) or holds[0][0].parameter.kind != "velocity":
+        return None
+    nodes = {c.parameter.target[0] for c in coords} | {holds[0][0].parameter.target[0]}
+    if len(nodes) != 1 or sorted([c.axis for c in coords] + [holds[0][0].axis]) != [0, 1, 2]:
+        return None
+    node = nodes.pop()
+    fixed = set(mech.fixed)
+    owners = [name for name, ns in mech.links if node in ns and not set(ns) & fixed]
+    if len(owners) != 1:
+        return None
+    platform = set(mech.link_nodes(owners[0]))
+    arms = [name for name, ns in mech.links if len(set(ns) & fixed) == 2 and set(ns) - fixed]
+    arm_nodes = {n for a in arms for n in mech.link_nodes(a)} - fixed
+    if not arms or set(mech.free_nodes) != platform | arm_nodes or platform & arm_nodes:
+        return None
+    if mech.mobility_value != 3:
+        return None
+    try:
+        return PoseSlice(mech, owners[0], node, coords, holds[0][0], holds[0][1], (0.0, 0.0, 0.0), arms=arms,
+                         geometry=geometry)
+    except _NotTranslating:
+        return None
+
+
+def _by_power(p, i: int, ring) -> dict:
+    """``p = Σ_k C_k g_i^k``: ``{k: C_k}`` (ring elements free of generator ``i``)."""
+    out: dict = {}
+    for m, coeff in p.terms():
+        mm = list(m)
+        k, mm[i] = m[i], 0
+        out[k] = out.get(k, ring.zero) + ring({tuple(mm): coeff})
+    return out
+
+
+def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.Expr, list[sp.Expr]]:
+    """The polynomial in the variables whose zeros are the points where ``det`` vanishes for some
+    real or complex placement of the arms, and the nonzero factors divided out.
+
+    Leg by leg: its closure ``p c + q s + r = 0`` gives ``c = −(q s + r)/p``; ``det`` (reduced to
+    degree ≤ 1 in ``c``) becomes ``G(s)`` times a power of ``p``, and the relation
+    ``Q(s) = (q s + r)² + E p² s² − p² = 0``; ``G`` is reduced modulo ``Q`` (pseudo-remainder, a
+    power of ``Q``'s leading coefficient ``q² + E p²``) to ``a s + b`` and their resultant
+    ``Q₂ b² − Q₁ a b + Q₀ a²`` replaces ``det``.  Powers of ``p`` (the substitution's
+    denominator) and of ``q² + E p²`` (positive at every real point where the leg's closure
+    depends on its angle) that divide the result are divided out and returned.
+    """
+    from sympy.polys.rings import ring
+
+    xs = ps.variables
+    syms = list(xs) + [x for leg in ps.legs for x in (leg.c, leg.s)]
+    rng, *gens = ring(syms, sp.QQ)
+    f = rng(sp.expand(det))
+    removed: list = []
+    for leg in ps.legs:
+        ci, si = syms.index(leg.c), syms.index(leg.s)
+        if f.degree(gens[ci]) <= 0 and f.degree(gens[si]) <= 0:
+            continue
+        e2 = sp.QQ(leg.e2.p, leg.e2.q)
+        s = gens[si]
+        by_c = _by_power(rng(sp.expand(leg.closure)), ci, rng)
+        if set(by_c) - {0, 1}:
+            raise SymkinError(f"the closure of arm {leg.link!r} is not linear in its angle's cosine")
+        p = by_c.get(1, rng.zero)
+        by_s = _by_power(by_c.get(0, rng.zero), si, rng)
+        q, r = by_s.get(1, rng.zero), by_s.get(0, rng.zero)
+        if p == 0:
+            raise SymkinError(f"the closure of arm {leg.link!r} does not depend on its angle's cosine")
+        fk = _by_power(f, ci, rng)
+        top = max(fk)
+        g = rng.zero
+        for k, coeff in fk.items():
+            g += coeff * (-(q * s + r)) ** k * p ** (top - k)
+        poll()
+        qk = _by_power((q * s + r) ** 2 + e2 * p ** 2 * s ** 2 - p ** 2, si, rng)
+        q2, q1, q0 = (qk.get(k, rng.zero) for k in (2, 1, 0))
+        gk = _by_power(g, si, rng)
+        d = max(gk)
+        while d >= 2:
+            lead = gk.pop(d)
+            gk = {k: v * q2 for k, v in gk.items()}
+            gk[d - 1] = gk.get(d - 1, rng.zero) - lead * q1
+            gk[d - 2] = gk.get(d - 2, rng.zero) - lead * q0
+            d -= 1
+            poll()
+        a, b = gk.get(1, rng.zero), gk.get(0, rng.zero)
+        f = q2 * b ** 2 - q1 * a * b + q0 * a ** 2
+        poll()
+        for h in (p, q2):
+            if h.is_ground:
+                continue
+            while True:
+                quo, rem = f.div(h)
+                if rem != 0:
+                    break
+                f = quo
+                removed.append(h.as_expr())
+    return f.as_expr(), removed
