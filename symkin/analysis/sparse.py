@@ -49,7 +49,8 @@ from symkin.model.mechanism import Mechanism
 from symkin.model.validation import dense_size_problem
 from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
                                    sparse_small_singular, svd_null_space)
-from symkin.numeric.sparse_rows import pairwise_row_count, shared_body_pairs, sparse_constraint_rows
+from symkin.numeric.sparse_rows import (pairwise_row_count, pivoted_dependent_rows, shared_body_pairs,
+                                       sparse_constraint_rows)
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["LARGE_COORDINATES", "LARGE_ROWS", "MAX_MOTIONS", "is_large", "check_dense_size", "sparse_rows",
@@ -194,15 +195,43 @@ class SparseStresses(Sequence):
         self._count = count
         self._done: list[Relation] = []
         self._fundamental = None
+        self._null = ms.V_free
         self.unlisted: str | None = None  # why the stresses are not listed (their count still is)
+        #: how the dependent rows were chosen: "LDLT" (the Gram matrix's pivots), "pivoted" (Gaussian
+        #: elimination with partial pivoting, when the first choice failed its checks) or "dense"
+        self.choice: str | None = None
+        self._guess = None
         if count > 0:
+            self._choose()
+
+    def _choose(self) -> None:
+        """The dependent rows: the LDLᵀ choice, else its partial-pivoting repair, else the dense path.
+
+        Each choice is kept if its first stresses pass their checks (:meth:`_take`); a later
+        stress that fails (:meth:`_more`) moves to the next choice, all stresses recomputed.
+        """
+        self._done = []
+        if self.choice is None:
             try:
-                dependent = sparse_dependent_rows(self._ju, count, tolerances.sparse_gram)
-                self._fundamental = FundamentalStresses(self._ju, dependent, ms.V_free)
+                self._guess = sparse_dependent_rows(self._ju, self._count, self._tol.sparse_gram)
+                self._fundamental = FundamentalStresses(self._ju, self._guess, self._null)
+                self.choice = "LDLT"
+                if self._take(0, 8):  # the first few at once: a poor choice of rows shows here, at analysis time
+                    return
             except RuntimeError:  # SuperLU: the rows chosen are singular
-                self._dense()
-            else:
-                self._more()  # the first few at once: a poor choice of rows shows here, at analysis time
+                pass
+        if self.choice in (None, "LDLT") and self._guess is not None:
+            self.choice = "pivoted"
+            try:
+                rows = pivoted_dependent_rows(self._ju, self._guess, self._null)
+                self._fundamental = FundamentalStresses(self._ju, rows, self._null)
+                if self._take(0, 8):
+                    return
+            except RuntimeError:
+                pass
+        self._fundamental = None
+        self.choice = "dense"
+        self._dense()
 
     @property
     def count(self) -> int:
@@ -245,22 +274,27 @@ class SparseStresses(Sequence):
 
     def _more(self) -> None:
         start = len(self._done)
+        if not self._take(start, start + min(CHUNK, max(8, start))):  # the next choice, from the start
+            self._choose()
+            if self.unlisted:
+                raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
+
+    def _take(self, start: int, stop: int) -> bool:
+        """Compute and keep stresses ``start:stop`` if each passes its checks (else keep none)."""
         # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
-        w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank ** 1.5)
+        w = self._fundamental.columns(start, stop, self._tol.rank ** 1.5)
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
         # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
         # above the rank tolerance of its norm (else the stresses are not independent at the threshold:
         # the rows chosen as a basis are dependent there)
         ok = (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
-        if not np.all(ok):  # ill-conditioned rows: the dense left null space, if it fits
-            self._dense()
-            if self.unlisted and start:  # found late, after some were read
-                raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
-            return
+        if not np.all(ok):
+            return False
         for c in range(w.shape[1]):
             lo, hi = w.indptr[c], w.indptr[c + 1]
             self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
+        return True
 
     def _add(self, rows: np.ndarray, coef: np.ndarray) -> None:
         if self._copies:

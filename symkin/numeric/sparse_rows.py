@@ -40,7 +40,8 @@ from symkin.numeric.geometric_matrix import _slider_rows, _unit_vectors, affine_
 from symkin.numeric.linalg import affine_hull
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["SparseRows", "sparse_constraint_rows", "pairwise_row_count", "shared_body_pairs"]
+__all__ = ["SparseRows", "sparse_constraint_rows", "pairwise_row_count", "shared_body_pairs",
+           "pivoted_dependent_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -257,3 +258,53 @@ def _dependent_in_body(matrix, rows: np.ndarray, frame_nodes: list[int], free: n
     block = sub[cand][:, cols].toarray()
     keep = set(independent_rows(block, tolerances.rank))
     return [int(rows[c]) for k, c in enumerate(cand) if k not in keep]
+
+
+def pivoted_dependent_rows(a, guess: np.ndarray, null: np.ndarray) -> np.ndarray:
+    """Rows of the sparse ``a`` (m, n) that depend on the others, chosen by partial pivoting (ascending).
+
+    The rank-revealing repair of a first choice ``guess`` of dependent rows (as many as
+    ``a`` has dependent rows: ``m − rank``) whose other rows are independent but may be
+    ill-conditioned.  ``L = null.shape[1]`` columns on which the right null space ``null``
+    (n, L) is nonsingular are dropped (pivoted QR of ``nullᵀ``), leaving ``A`` (m, r) of full
+    column rank ``r = rank``.  SuperLU factorises the square ``M = [A | E]`` (``E``: the
+    identity columns of the guessed rows; ``M`` is nonsingular iff the rows outside
+    ``guess`` are independent), its columns in the order given (``A``'s in a minimum-degree
+    order of ``AᵀA``, then ``E``'s: no etree post-order in symmetric mode) with **partial
+    pivoting** (``diag_pivot_thresh = 1``): each of ``A``'s columns takes as pivot the row of
+    largest magnitude left, so the ``r`` rows pivoted on ``A``'s columns are those of
+    Gaussian elimination with partial pivoting on ``A`` — the guess does not enter their
+    choice — and the rows pivoted on ``E``'s columns are the dependent ones returned.  The
+    multipliers are at most 1, so the basis rows are well-conditioned as far as partial
+    pivoting reveals rank; the caller verifies the stresses they give.
+
+    Raises
+    ------
+    RuntimeError
+        From SuperLU, when the rows outside ``guess`` are singular (``M`` is).
+    """
+    import scipy.sparse.linalg as spla
+    from scipy.linalg import qr
+
+    a = sps.csr_matrix(a)
+    m, n = a.shape
+    guess = np.asarray(guess, dtype=int)
+    keep = np.arange(n)
+    if null.shape[1]:
+        keep = np.setdiff1d(keep, qr(null.T, pivoting=True, mode="r")[1][: null.shape[1]])
+    ak = a[:, keep].tocsc()
+    r = keep.size
+    if r + guess.size != m:
+        raise ValueError(f"{guess.size} dependent rows guessed for {m} rows of rank {r}")
+    if r:
+        g = (ak.T @ ak).tocsc()
+        shift = float(abs(g).max()) * np.finfo(float).eps
+        order = np.argsort(spla.splu(g + shift * sps.identity(r, format="csc"), permc_spec="MMD_AT_PLUS_A",
+                                     diag_pivot_thresh=0.0, options={"SymmetricMode": True}).perm_c)
+        ak = ak[:, order]
+    e = sps.csc_matrix((np.ones(guess.size), (guess, np.arange(guess.size))), shape=(m, guess.size))
+    lu = spla.splu(sps.hstack([ak, e], format="csc"), permc_spec="NATURAL", diag_pivot_thresh=1.0,
+                   options={"SymmetricMode": True})
+    if not np.array_equal(lu.perm_c, np.arange(m)):  # SuperLU kept the columns' order (no post-order)
+        raise RuntimeError("SuperLU reordered the columns")
+    return np.flatnonzero(lu.perm_r >= r)
