@@ -39,6 +39,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sps
+from scipy.linalg import qr
 from scipy.sparse.linalg import ArpackNoConvergence
 
 from symkin.analysis.configuration_rows import ConfigurationRows
@@ -68,6 +69,8 @@ MAX_MOTIONS = 2000
 #: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`):
 #: 8 first (a report shows 5), then as many as already computed, up to this many
 CHUNK = 256
+#: stresses computed and checked when a choice of dependent rows is made (:class:`SparseStresses`)
+_FIRST = 8
 
 
 def _free_count(mech: Mechanism) -> int:
@@ -201,22 +204,26 @@ class SparseStresses(Sequence):
         #: elimination with partial pivoting, when the first choice failed its checks) or "dense"
         self.choice: str | None = None
         self._guess = None
+        self._raw: list[tuple[np.ndarray, np.ndarray]] = []  # the stresses read, as (rows of J[used], values)
+        self._order = np.arange(count)  # the fundamental stresses listed after those kept from a former choice
         if count > 0:
             self._choose()
 
     def _choose(self) -> None:
         """The dependent rows: the LDLᵀ choice, else its partial-pivoting repair, else the dense path.
 
-        Each choice is kept if its first stresses pass their checks (:meth:`_take`); a later
-        stress that fails (:meth:`_more`) moves to the next choice, all stresses recomputed.
+        Each choice is kept if its first stresses pass their checks (:meth:`_take`).  A later
+        stress that fails (:meth:`_more`) moves to the next choice; the stresses already read
+        stay, first, and the new choice gives the others: those of its fundamental stresses
+        that complete them to a basis (:meth:`_exchange`).
         """
-        self._done = []
         if self.choice is None:
             try:
                 self._guess = sparse_dependent_rows(self._ju, self._count, self._tol.sparse_gram)
                 self._fundamental = FundamentalStresses(self._ju, self._guess, self._null)
                 self.choice = "LDLT"
-                if self._take(0, 8):  # the first few at once: a poor choice of rows shows here, at analysis time
+                self._order = np.arange(self._count)
+                if self._take(0, _FIRST):  # the first few at once: a poor choice of rows shows here, at analysis time
                     return
             except RuntimeError:  # SuperLU: the rows chosen are singular
                 pass
@@ -225,13 +232,41 @@ class SparseStresses(Sequence):
             try:
                 rows = pivoted_dependent_rows(self._ju, self._guess, self._null)
                 self._fundamental = FundamentalStresses(self._ju, rows, self._null)
-                if self._take(0, 8):
+                if self._exchange() and self._take(len(self._done), len(self._done) + _FIRST):
                     return
             except RuntimeError:
                 pass
         self._fundamental = None
         self.choice = "dense"
+        if self._done:
+            raise SymkinError("the self-stresses cannot be listed: the rows chosen as a basis fail the rank "
+                              "test after some stresses were read")
         self._dense()
+
+    def _exchange(self) -> bool:
+        """Keep the stresses read (``h`` of them) and drop ``h`` of the new fundamental stresses.
+
+        A stress's coordinates in the new fundamental basis are its entries on the new
+        dependent rows; the ``h`` columns of the ``h × count`` matrix of those coordinates
+        chosen by a pivoted QR are the new stresses the old ones replace (the exchange lemma:
+        the result is a basis when the pivots are nonzero at the rank tolerance).
+        """
+        h = len(self._done)
+        self._order = np.arange(self._count)
+        if not h:
+            return True
+        dependent = self._fundamental.dependent
+        coords = np.zeros((h, self._count))
+        for i, (rows, coef) in enumerate(self._raw):
+            at = np.searchsorted(dependent, rows)
+            hit = (at < dependent.size) & (dependent[np.minimum(at, dependent.size - 1)] == rows)
+            coords[i, at[hit]] = coef[hit]
+        r, piv = qr(coords, pivoting=True, mode="r")
+        d = np.abs(np.diag(r))
+        if d.size < h or d.min() <= self._tol.rank * d.max():
+            return False
+        self._order = np.setdiff1d(self._order, piv[:h])
+        return True
 
     @property
     def count(self) -> int:
@@ -282,7 +317,11 @@ class SparseStresses(Sequence):
     def _take(self, start: int, stop: int) -> bool:
         """Compute and keep stresses ``start:stop`` if each passes its checks (else keep none)."""
         # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
-        w = self._fundamental.columns(start, stop, self._tol.rank ** 1.5)
+        h = self._count - self._order.size  # stresses kept from a former choice, listed first
+        index = self._order[start - h: stop - h]
+        parts = np.split(index, np.flatnonzero(np.diff(index) != 1) + 1) if index.size else []
+        w = sps.hstack([self._fundamental.columns(int(p[0]), int(p[-1]) + 1, self._tol.rank ** 1.5)
+                        for p in parts], format="csc") if parts else sps.csc_matrix((self._ju.shape[0], 0))
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
         # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
@@ -293,6 +332,7 @@ class SparseStresses(Sequence):
             return False
         for c in range(w.shape[1]):
             lo, hi = w.indptr[c], w.indptr[c + 1]
+            self._raw.append((w.indices[lo:hi].copy(), w.data[lo:hi].copy()))
             self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
         return True
 
@@ -310,7 +350,7 @@ class SparseStresses(Sequence):
             self.unlisted = problem.message
             return
         basis = left_null_space(self._ju.toarray(), self._tol.rank * self._smax)[:, : self._count]
-        self._done = []
+        self._done, self._raw = [], []
         for c in range(basis.shape[1]):
             col = basis[:, c]
             keep = np.flatnonzero(np.abs(col) > self._tol.rank * np.abs(col).max())
