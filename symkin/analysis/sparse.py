@@ -69,6 +69,8 @@ MAX_MOTIONS = 2000
 #: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`):
 #: 8 first (a report shows 5), then as many as already computed, up to this many
 CHUNK = 256
+#: bytes of one listed entry (a bar's label and force in a Python tuple), to estimate a listing's size
+LISTED_ENTRY_BYTES = 120
 #: stresses computed and checked when a choice of dependent rows is made (:class:`SparseStresses`)
 _FIRST = 8
 
@@ -201,7 +203,8 @@ class SparseStresses(Sequence):
         self._null = ms.V_free
         self.unlisted: str | None = None  # why the stresses are not listed (their count still is)
         #: how the dependent rows were chosen: "LDLT" (the Gram matrix's pivots), "pivoted" (Gaussian
-        #: elimination with partial pivoting, when the first choice failed its checks) or "dense"
+        #: elimination with partial pivoting, when the first choice failed its checks), "dense" (the
+        #: dense left null space), or "unlisted" (the stresses are counted only: see ``unlisted``)
         self.choice: str | None = None
         self._guess = None
         self._raw: list[tuple[np.ndarray, np.ndarray]] = []  # the stresses read, as (rows of J[used], values)
@@ -229,10 +232,14 @@ class SparseStresses(Sequence):
                 pass
         if self.choice in (None, "LDLT") and self._guess is not None:
             self.choice = "pivoted"
+            if self._too_large_to_list(len(self._done)):
+                return
             try:
                 rows = pivoted_dependent_rows(self._ju, self._guess, self._null)
                 self._fundamental = FundamentalStresses(self._ju, rows, self._null)
-                if self._exchange() and self._take(len(self._done), len(self._done) + _FIRST):
+                h = len(self._done)
+                if self._exchange() and self._take(h, h + _FIRST):
+                    self._check_listing_size(h)
                     return
             except RuntimeError:
                 pass
@@ -242,6 +249,47 @@ class SparseStresses(Sequence):
             raise SymkinError("the self-stresses cannot be listed: the rows chosen as a basis fail the rank "
                               "test after some stresses were read")
         self._dense()
+
+    def _too_large_to_list(self, h: int) -> bool:
+        """Whether a listing of stresses reaching half the rows would exceed the limit (then not listed).
+
+        Checked before the partial-pivoting repair, whose factorisation is costly: its
+        fundamental stresses reach about half the rows on the spatial trusses measured (47–49 %
+        at 1,000–1,728 nodes, ``benchmarks/bench_large.py``).
+        """
+        m = self._ju.shape[0]
+        need = self._count * (m / 2) * LISTED_ENTRY_BYTES
+        from symkin.model import validation
+
+        if need <= validation.DENSE_ANALYSIS_BYTES:
+            return False
+        message = (f"the first choice of dependent rows fails the rank test, and the stresses of the "
+                   f"partial-pivoting choice (about {m // 2} bars each) would take about {need / 1024 ** 3:.1f} GiB "
+                   f"to list, above the limit of {validation.DENSE_ANALYSIS_BYTES / 1024 ** 3:g} GiB")
+        if h:
+            raise SymkinError(f"the self-stresses cannot be listed: {message}")
+        self.unlisted, self._done, self._raw, self._fundamental = message, [], [], None
+        self.choice = "unlisted"
+        return True
+
+    def _check_listing_size(self, h: int) -> None:
+        """Refuse to list stresses whose listing would exceed the dense limit (estimated from those computed).
+
+        A fundamental stress of the partial-pivoting choice may reach many rows (in a spatial
+        truss, about half of them): the listing then grows as (count × rows), beyond
+        :data:`symkin.model.validation.DENSE_ANALYSIS_BYTES` at a few thousand nodes.
+        """
+        from symkin.model import validation
+
+        entries = sum(rows.size for rows, _ in self._raw[h:]) / max(len(self._raw) - h, 1)
+        need = entries * self._count * LISTED_ENTRY_BYTES
+        if need > validation.DENSE_ANALYSIS_BYTES:
+            message = (f"listing them would take about {need / 1024 ** 3:.1f} GiB (about {entries:.0f} bars each, "
+                       f"the rows chosen by partial pivoting), above the limit of "
+                       f"{validation.DENSE_ANALYSIS_BYTES / 1024 ** 3:g} GiB")
+            if h:
+                raise SymkinError(f"the self-stresses cannot be listed: {message}")
+            self.unlisted, self._done, self._raw = message, [], []
 
     def _exchange(self) -> bool:
         """Keep the stresses read (``h`` of them) and drop ``h`` of the new fundamental stresses.
