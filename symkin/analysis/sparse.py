@@ -13,13 +13,20 @@ pairwise form) takes this path instead:
   mode, then a Rayleigh–Ritz step on ``J``): the rank is decided, as on the dense path, by
   ``σ <= rank · σ_max`` on singular values of ``J`` accurate to rounding;
 * the self-stresses are the **fundamental** stresses of the dependent rows
-  (:func:`symkin.numeric.linalg.sparse_dependent_rows`,
-  :class:`~symkin.numeric.linalg.FundamentalStresses`): one per dependent row ``k``,
+  (:class:`~symkin.numeric.linalg.FundamentalStresses`): one per dependent row ``k``,
   with coefficient 1 on row k, each checked (``‖Jᵀω‖ <= rank · σ_max · ‖ω‖``, the rank
-  test), computed when read (:class:`SparseStresses`).  They span the same space as the dense path's canonical (reduced row echelon)
-  stresses, but are not that canonical basis: the echelon form of thousands of stresses
-  is dense, theirs stay as sparse as the structure lets them (a stress local to a few bars
-  stays on them).
+  test, and ``‖ω‖ <= 1 / rank``), computed when read (:class:`SparseStresses`).  The
+  dependent rows are first chosen by the pivots of an LDLᵀ of ``J Jᵀ + δI``
+  (:func:`symkin.numeric.linalg.sparse_dependent_rows`: cheap, and its stresses stay as
+  local as the structure lets them, but it is not rank-revealing); where a stress of that
+  choice fails its checks, by Gaussian elimination with partial pivoting on ``J``
+  (:func:`symkin.numeric.sparse_rows.pivoted_dependent_rows`), whose stresses are
+  well-conditioned but reach many rows (about half of them in a spatial truss): that repair
+  is made only where such a listing fits :data:`symkin.model.validation.DENSE_ANALYSIS_BYTES`,
+  then the dense left null space if it fits, else the stresses are counted (exactly) and not
+  listed, with a warning.  They span the same space as the dense path's canonical (reduced
+  row echelon) stresses, but are not that canonical basis: the echelon form of thousands of
+  stresses is dense.
 
 The count of self-stresses is the dense path's: rows touching a free coordinate, minus the
 rank, minus the modelling artefacts (here: the rows of a body made dependent on its own
