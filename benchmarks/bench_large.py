@@ -213,7 +213,7 @@ def main(argv=None) -> int:
     p.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000])
     p.add_argument("--spatial", type=int, nargs="*", default=[1000, 3375])
     p.add_argument("--dense-max", type=int, default=300, help="largest planar size run on the dense path")
-    p.add_argument("--pyrigi-max", type=int, default=300, help="largest planar size run with PyRigi")
+    p.add_argument("--pyrigi-max", type=int, default=300, help="largest size (planar or spatial) run with PyRigi")
     p.add_argument("--no-body", action="store_true", help="skip the 1,000-node rigid body")
     p.add_argument("--json", help="write the rows to this file")
     p.add_argument("--one", nargs=4, help=argparse.SUPPRESS)
