@@ -57,8 +57,8 @@ from symkin.model.mechanism import Mechanism
 from symkin.model.validation import dense_size_problem
 from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
                                    sparse_small_singular, svd_null_space)
-from symkin.numeric.sparse_rows import (pairwise_row_count, pivoted_dependent_rows, shared_body_pairs,
-                                       sparse_constraint_rows)
+from symkin.numeric.sparse_rows import (LocalStresses, pairwise_row_count, pivoted_dependent_rows,
+                                       shared_body_pairs, sparse_constraint_rows)
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["LARGE_COORDINATES", "LARGE_ROWS", "MAX_MOTIONS", "is_large", "check_dense_size", "sparse_rows",
@@ -78,6 +78,8 @@ MAX_MOTIONS = 2000
 CHUNK = 256
 #: bytes of one listed entry (a bar's label and force in a Python tuple), to estimate a listing's size
 LISTED_ENTRY_BYTES = 120
+#: whether the stresses listed are local ones where found (:class:`~symkin.numeric.sparse_rows.LocalStresses`)
+LOCAL = True
 #: stresses computed and checked when a choice of dependent rows is made (:class:`SparseStresses`)
 _FIRST = 8
 
@@ -216,6 +218,12 @@ class SparseStresses(Sequence):
         self._guess = None
         self._raw: list[tuple[np.ndarray, np.ndarray]] = []  # the stresses read, as (rows of J[used], values)
         self._order = np.arange(count)  # the fundamental stresses listed after those kept from a former choice
+        self._local = self._local_of = None
+        self._jt = self._ju.T.tocsr().tocsc() if count > 0 else None  # Jᵀ by columns (rows of J): the checks
+        #: stresses read that are local (:class:`~symkin.numeric.sparse_rows.LocalStresses`), and those that
+        #: are the fundamental stresses of their dependent rows (no local one found within the patch limit)
+        self.local = 0
+        self.fallback = 0
         if count > 0:
             self._choose()
 
@@ -374,9 +382,28 @@ class SparseStresses(Sequence):
         # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
         h = self._count - self._order.size  # stresses kept from a former choice, listed first
         index = self._order[start - h: stop - h]
-        parts = np.split(index, np.flatnonzero(np.diff(index) != 1) + 1) if index.size else []
-        w = sps.hstack([self._fundamental.columns(int(p[0]), int(p[-1]) + 1, self._tol.rank ** 1.5)
-                        for p in parts], format="csc") if parts else sps.csc_matrix((self._ju.shape[0], 0))
+        local = self._locals(index) if h == 0 and LOCAL else {}
+        rest = np.array([k for k in index.tolist() if k not in local], dtype=int)
+        parts = np.split(rest, np.flatnonzero(np.diff(rest) != 1) + 1) if rest.size else []
+        fund = sps.hstack([self._fundamental.columns(int(p[0]), int(p[-1]) + 1, self._tol.rank ** 1.5)
+                           for p in parts], format="csc") if parts else sps.csc_matrix((self._ju.shape[0], 0))
+        if local:  # the stresses in the order of ``index``: local ones where found, else fundamental
+            fund = fund.tocsc()
+            at = {k: c for c, k in enumerate(rest.tolist())}
+            rows, vals, ptr = [], [], [0]
+            for k in index.tolist():
+                if k in local:
+                    r, v = local[k]
+                else:
+                    c = at[k]
+                    r, v = fund.indices[fund.indptr[c]: fund.indptr[c + 1]], fund.data[fund.indptr[c]: fund.indptr[c + 1]]
+                rows.append(r)
+                vals.append(v)
+                ptr.append(ptr[-1] + r.size)
+            w = sps.csc_matrix((np.concatenate(vals), np.concatenate(rows), np.array(ptr)),
+                               shape=(self._ju.shape[0], index.size))
+        else:
+            w = fund
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
         # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
@@ -385,11 +412,31 @@ class SparseStresses(Sequence):
         ok = (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
         if not np.all(ok):
             return False
+        self.local += len(local)
+        self.fallback += index.size - len(local)
         for c in range(w.shape[1]):
             lo, hi = w.indptr[c], w.indptr[c + 1]
             self._raw.append((w.indices[lo:hi].copy(), w.data[lo:hi].copy()))
             self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
         return True
+
+    def _locals(self, index: np.ndarray) -> dict:
+        """Local stresses (:class:`~symkin.numeric.sparse_rows.LocalStresses`) of the dependent rows
+        ``index``, those found and passing the rank test on the whole ``J``: position → (rows, values)."""
+        if self._local is None or self._local_of is not self._fundamental:
+            self._local_of = self._fundamental
+            self._local = LocalStresses(self._ju, self._fundamental.dependent, self._tol.rank * self._smax,
+                                        self._tol.sparse_local, self._tol.rank ** 1.5)
+        out = {}
+        for k in index.tolist():
+            got = self._local.stress(k)
+            if got is None:
+                continue
+            rows, w = got
+            residual = np.abs(self._jt[:, rows] @ w).max(initial=0.0)
+            if residual <= self._tol.rank * self._smax * float(np.linalg.norm(w)):
+                out[k] = got
+        return out
 
     def _add(self, rows: np.ndarray, coef: np.ndarray) -> None:
         if self._copies:
