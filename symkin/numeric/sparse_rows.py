@@ -45,7 +45,7 @@ __all__ = ["SparseRows", "sparse_constraint_rows", "pairwise_row_count", "shared
 
 #: rows of the largest patch on which :func:`local_stress` looks for a local self-stress (a dense
 #: SVD of at most this many rows; a planar truss's stress is found on ~30 rows, a spatial one's on ~150)
-LOCAL_PATCH_ROWS = 400
+LOCAL_PATCH_ROWS = 200
 
 
 @dataclass(frozen=True, eq=False)
