@@ -57,7 +57,7 @@ from symkin.model.mechanism import Mechanism
 from symkin.model.validation import dense_size_problem
 from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
                                    sparse_small_singular, svd_null_space)
-from symkin.numeric.sparse_rows import (LocalStresses, pairwise_row_count, pivoted_dependent_rows,
+from symkin.numeric.sparse_rows import (LOCAL_PATCH_ROWS, LocalStresses, pairwise_row_count, pivoted_dependent_rows,
                                        shared_body_pairs, sparse_constraint_rows)
 from symkin.tolerances import DEFAULT, Tolerances
 
@@ -80,6 +80,8 @@ CHUNK = 256
 LISTED_ENTRY_BYTES = 120
 #: whether the stresses listed are local ones where found (:class:`~symkin.numeric.sparse_rows.LocalStresses`)
 LOCAL = True
+#: rows of the largest patch tried for a dependent row whose fundamental stress fails its checks
+RETRY_PATCH_ROWS = 800
 #: stresses computed and checked when a choice of dependent rows is made (:class:`SparseStresses`)
 _FIRST = 8
 
@@ -209,6 +211,7 @@ class SparseStresses(Sequence):
         self._count = count
         self._done: list[Relation] = []
         self._fundamental = None
+        self._dependent = None  # the dependent rows of the current choice (of J[used])
         self._null = ms.V_free
         self.unlisted: str | None = None  # why the stresses are not listed (their count still is)
         #: how the dependent rows were chosen: "LDLT" (the Gram matrix's pivots), "pivoted" (Gaussian
@@ -224,6 +227,7 @@ class SparseStresses(Sequence):
         #: are the fundamental stresses of their dependent rows (no local one found within the patch limit)
         self.local = 0
         self.fallback = 0
+        self.is_local: list[bool] = []  # per stress read: local (True) or fundamental (False)
         if count > 0:
             self._choose()
 
@@ -238,7 +242,8 @@ class SparseStresses(Sequence):
         if self.choice is None:
             try:
                 self._guess = sparse_dependent_rows(self._ju, self._count, self._tol.sparse_gram)
-                self._fundamental = FundamentalStresses(self._ju, self._guess, self._null)
+                # built when a stress needs it (no local one): the local stresses need only the rows
+                self._fundamental, self._dependent = None, self._guess
                 self.choice = "LDLT"
                 self._order = np.arange(self._count)
                 if self._take(0, _FIRST):  # the first few at once: a poor choice of rows shows here, at analysis time
@@ -252,6 +257,7 @@ class SparseStresses(Sequence):
             try:
                 rows = pivoted_dependent_rows(self._ju, self._guess, self._null)
                 self._fundamental = FundamentalStresses(self._ju, rows, self._null)
+                self._dependent = rows
                 h = len(self._done)
                 if self._exchange() and self._take(h, h + _FIRST):
                     self._check_listing_size(h)
@@ -284,6 +290,7 @@ class SparseStresses(Sequence):
         if h:
             raise SymkinError(f"the self-stresses cannot be listed: {message}")
         self.unlisted, self._done, self._raw, self._fundamental = message, [], [], None
+        self.is_local, self.local, self.fallback = [], 0, 0
         self.choice = "unlisted"
         return True
 
@@ -305,6 +312,7 @@ class SparseStresses(Sequence):
             if h:
                 raise SymkinError(f"the self-stresses cannot be listed: {message}")
             self.unlisted, self._done, self._raw = message, [], []
+            self.is_local, self.local, self.fallback = [], 0, 0
 
     def _exchange(self) -> bool:
         """Keep the stresses read (``h`` of them) and drop ``h`` of the new fundamental stresses.
@@ -318,7 +326,7 @@ class SparseStresses(Sequence):
         self._order = np.arange(self._count)
         if not h:
             return True
-        dependent = self._fundamental.dependent
+        dependent = self._dependent
         coords = np.zeros((h, self._count))
         for i, (rows, coef) in enumerate(self._raw):
             at = np.searchsorted(dependent, rows)
@@ -378,58 +386,69 @@ class SparseStresses(Sequence):
                 raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
 
     def _take(self, start: int, stop: int) -> bool:
-        """Compute and keep stresses ``start:stop`` if each passes its checks (else keep none)."""
+        """Compute and keep stresses ``start:stop`` if each passes its checks (else keep none).
+
+        A stress is the local one of its dependent row where a patch of at most
+        :data:`~symkin.numeric.sparse_rows.LOCAL_PATCH_ROWS` rows gives one, else its
+        fundamental stress, else (that one failing its checks: a poor choice of rows) the local
+        one of a patch of up to :data:`RETRY_PATCH_ROWS` rows; else the choice fails.
+        """
         # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
         h = self._count - self._order.size  # stresses kept from a former choice, listed first
         index = self._order[start - h: stop - h]
-        local = self._locals(index) if h == 0 and LOCAL else {}
-        rest = np.array([k for k in index.tolist() if k not in local], dtype=int)
-        parts = np.split(rest, np.flatnonzero(np.diff(rest) != 1) + 1) if rest.size else []
-        fund = sps.hstack([self._fundamental.columns(int(p[0]), int(p[-1]) + 1, self._tol.rank ** 1.5)
-                           for p in parts], format="csc") if parts else sps.csc_matrix((self._ju.shape[0], 0))
-        if local:  # the stresses in the order of ``index``: local ones where found, else fundamental
-            fund = fund.tocsc()
-            at = {k: c for c, k in enumerate(rest.tolist())}
-            rows, vals, ptr = [], [], [0]
-            for k in index.tolist():
-                if k in local:
-                    r, v = local[k]
-                else:
-                    c = at[k]
-                    r, v = fund.indices[fund.indptr[c]: fund.indptr[c + 1]], fund.data[fund.indptr[c]: fund.indptr[c + 1]]
-                rows.append(r)
-                vals.append(v)
-                ptr.append(ptr[-1] + r.size)
-            w = sps.csc_matrix((np.concatenate(vals), np.concatenate(rows), np.array(ptr)),
-                               shape=(self._ju.shape[0], index.size))
+        use_local = h == 0 and LOCAL
+        found = self._locals(index) if use_local else {}
+        rest = np.array([k for k in index.tolist() if k not in found], dtype=int)
+        if rest.size:
+            try:
+                if self._fundamental is None:
+                    self._fundamental = FundamentalStresses(self._ju, self._dependent, self._null)
+                parts = np.split(rest, np.flatnonzero(np.diff(rest) != 1) + 1)
+                fund = sps.hstack([self._fundamental.columns(int(p[0]), int(p[-1]) + 1, self._tol.rank ** 1.5)
+                                   for p in parts], format="csc")
+                ok = self._passes(fund)
+            except RuntimeError:  # SuperLU: the rows left are singular
+                fund, ok = None, np.zeros(rest.size, dtype=bool)
+            bad = rest[~ok]
+            if bad.size and not use_local:
+                return False
+            retry = self._locals(bad, RETRY_PATCH_ROWS) if bad.size else {}
+            if len(retry) < bad.size:
+                return False
+            fallback = {k: (fund.indices[fund.indptr[c]: fund.indptr[c + 1]], fund.data[fund.indptr[c]: fund.indptr[c + 1]])
+                        for c, k in enumerate(rest.tolist()) if ok[c]}
         else:
-            w = fund
-        residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
-        norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
-        # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
-        # above the rank tolerance of its norm (else the stresses are not independent at the threshold:
-        # the rows chosen as a basis are dependent there)
-        ok = (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
-        if not np.all(ok):
-            return False
-        self.local += len(local)
-        self.fallback += index.size - len(local)
-        for c in range(w.shape[1]):
-            lo, hi = w.indptr[c], w.indptr[c + 1]
-            self._raw.append((w.indices[lo:hi].copy(), w.data[lo:hi].copy()))
-            self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
+            retry, fallback = {}, {}
+        for k in index.tolist():
+            rows, coef = found.get(k) or retry.get(k) or fallback[k]
+            self._raw.append((rows.copy(), coef.copy()))
+            self._add(self._used[rows], coef)
+            self.is_local.append(k not in fallback)
+        self.local += index.size - len(fallback)
+        self.fallback += len(fallback)
         return True
 
-    def _locals(self, index: np.ndarray) -> dict:
+    def _passes(self, w) -> np.ndarray:
+        """Which columns of ``w`` pass the checks of a stress.
+
+        A stress passes the rank test (relative to its norm), and its 1 on its own dependent
+        row stays above the rank tolerance of its norm (else the stresses are not independent
+        at the threshold: the rows chosen as a basis are dependent there).
+        """
+        residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
+        norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
+        return (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
+
+    def _locals(self, index: np.ndarray, max_rows: int = LOCAL_PATCH_ROWS) -> dict:
         """Local stresses (:class:`~symkin.numeric.sparse_rows.LocalStresses`) of the dependent rows
         ``index``, those found and passing the rank test on the whole ``J``: position → (rows, values)."""
-        if self._local is None or self._local_of is not self._fundamental:
-            self._local_of = self._fundamental
-            self._local = LocalStresses(self._ju, self._fundamental.dependent, self._tol.rank * self._smax,
+        if self._local is None or self._local_of is not self._dependent:
+            self._local_of = self._dependent
+            self._local = LocalStresses(self._ju, self._dependent, self._tol.rank * self._smax,
                                         self._tol.sparse_local, self._tol.rank ** 1.5)
         out = {}
         for k in index.tolist():
-            got = self._local.stress(k)
+            got = self._local.stress(k, max_rows)
             if got is None:
                 continue
             rows, w = got
@@ -452,7 +471,7 @@ class SparseStresses(Sequence):
             self.unlisted = problem.message
             return
         basis = left_null_space(self._ju.toarray(), self._tol.rank * self._smax)[:, : self._count]
-        self._done, self._raw = [], []
+        self._done, self._raw, self.is_local, self.local, self.fallback = [], [], [], 0, 0
         for c in range(basis.shape[1]):
             col = basis[:, c]
             keep = np.flatnonzero(np.abs(col) > self._tol.rank * np.abs(col).max())

@@ -362,8 +362,12 @@ class LocalStresses:
         self._position[self.dependent] = np.arange(self.dependent.size)
         self._threshold, self._floor, self._drop, self._max_rows = threshold, floor, drop, max_rows
 
-    def stress(self, k: int) -> tuple[np.ndarray, np.ndarray] | None:
-        """The local stress of the ``k``-th dependent row as (rows ascending, values), or None."""
+    def stress(self, k: int, max_rows: int | None = None) -> tuple[np.ndarray, np.ndarray] | None:
+        """The local stress of the ``k``-th dependent row as (rows ascending, values), or None.
+
+        ``max_rows`` (default: the one given at construction) bounds the patch's rows.
+        """
+        max_rows = self._max_rows if max_rows is None else max_rows
         a, at = self._csr, self._csc
         d = int(self.dependent[k])
         cols = np.unique(_gather(a.indptr, a.indices, np.array([d])))
@@ -377,7 +381,7 @@ class LocalStresses:
             inside = np.add.reduceat(incol[_gather(a.indptr, a.indices, cand)].astype(np.int64),
                                      np.concatenate([[0], np.cumsum(lens)[:-1]])) == lens if cand.size else cand
             patch = cand[inside] if cand.size else cand
-            if patch.size > self._max_rows:
+            if patch.size > max_rows:
                 return None
             if patch.size > previous:
                 found = self._on(patch, cols, d)

@@ -340,3 +340,107 @@ def test_a_spatial_truss_whose_ldlt_choice_fails_is_listed_by_partial_pivoting()
                 equilibrium[3 * free[node]: 3 * free[node] + 3, c] = sign * u
     assert (np.abs(equilibrium @ s).max(axis=0) <= 1e-9 * np.abs(s).max(axis=0)).all()
     assert np.linalg.matrix_rank(s) == len(stresses)
+
+
+# ---------------------------------------------------------------------- local self-stresses
+def _equilibrium(data) -> tuple[np.ndarray, list[str]]:
+    """The equilibrium matrix (free coordinates × bars) built here from the node coordinates."""
+    dim = data["dim"]
+    names = list(data["links"])
+    free = {name: k for k, name in enumerate(sorted(set(data["nodes"]) - set(data["fixed"])))}
+    out = np.zeros((dim * len(free), len(names)))
+    for c, bar in enumerate(names):
+        i, j = data["links"][bar]
+        u = np.subtract(data["nodes"][j], data["nodes"][i])
+        u = u / np.linalg.norm(u)
+        for node, sign in ((i, 1.0), (j, -1.0)):
+            if node in free:
+                out[dim * free[node]: dim * free[node] + dim, c] = sign * u
+    return out, names
+
+
+def _check_listed_stresses(data, a) -> np.ndarray:
+    """Count = deficit, each stress in equilibrium (independent computation), rank of the set = count."""
+    stresses = tuple(a.self_stresses)
+    assert len(stresses) == a.redundant_constraints
+    eq, names = _equilibrium(data)
+    s = _stress_matrix(stresses, names)
+    assert (np.abs(eq @ s).max(axis=0) <= 1e-9 * np.abs(s).max(axis=0)).all()
+    assert np.linalg.matrix_rank(s) == len(stresses)
+    # the closed form of a rigid framework: bars touching a free node, minus dim · free nodes
+    grounded = sum(1 for x, y in data["links"].values() if {x, y} <= set(data["fixed"]))
+    assert a.dof == 0 and len(stresses) == len(names) - grounded - eq.shape[0]
+    return s
+
+
+@pytest.mark.parametrize("cells", [150, 400])
+def test_local_stresses_of_a_braced_strip_stay_on_their_cell_whatever_its_length(cells):
+    """A strip of 2 × cells nodes with 25 cells braced twice: 25 stresses, each on the 6 bars of its
+    braced cell (a K4: elementary geometry), 5 where that cell's bottom bar joins the fixed nodes."""
+    data = bench.planar_truss(cells, 2, extra=25)
+    a = symkin.analyze(symkin.Mechanism.from_dict(data))
+    _check_listed_stresses(data, a)
+    assert a.self_stresses.is_local == [True] * 25
+    assert max(r.r for r in a.self_stresses) <= 6
+
+
+def test_local_stresses_of_a_grid_have_a_support_independent_of_its_size():
+    """Triangulated grids of 15 × 20 and 30 × 30 nodes (+ 20 braced cells): the stresses are local
+    (most: a wheel round an interior node is 12 bars, the patches mix two), their support bounded by
+    the same constant at both sizes; the few dependent rows without one within the patch limit keep
+    their fundamental stress.  The set is a basis (rank), in equilibrium, as many as the deficit."""
+    from symkin.numeric.sparse_rows import LOCAL_PATCH_ROWS
+
+    bound = {}
+    for nx, ny, extra in [(15, 20, 0), (25, 25, 20)]:
+        data = bench.planar_truss(nx, ny, extra=extra)
+        a = symkin.analyze(symkin.Mechanism.from_dict(data))
+        _check_listed_stresses(data, a)
+        flags = a.self_stresses.is_local
+        assert sum(flags) >= 0.9 * len(flags)
+        sizes = [r.r for r, local in zip(a.self_stresses, flags) if local]
+        bound[nx] = (max(sizes), float(np.percentile(sizes, 90)))
+    # 90 % of the local stresses on at most 19 bars (two wheels), at both sizes; all within a patch
+    assert bound[15][1] <= 19 and bound[25][1] <= 19
+    assert max(bound[15][0], bound[25][0]) <= LOCAL_PATCH_ROWS
+
+
+def test_local_stresses_are_unit_triangular_on_the_dependent_rows():
+    """Each listed stress has 1 on its own dependent row and 0 on the later ones (hence independent)."""
+    a = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5)))
+    st = a.self_stresses
+    tuple(st)
+    dependent = st._dependent
+    coords = np.zeros((len(st), dependent.size))
+    for i, (rows, coef) in enumerate(st._raw):
+        at = {r: c for r, c in zip(rows.tolist(), coef.tolist())}
+        coords[i] = [at.get(r, 0.0) for r in dependent.tolist()]
+    assert np.array_equal(np.diag(coords), np.ones(len(st)))
+    assert not np.triu(coords, 1).any()
+
+
+def test_local_stresses_are_the_same_in_mm_and_in_m():
+    m = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5)))
+    mm = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5, spacing=1000.0)))
+    assert len(tuple(m.self_stresses)) == len(tuple(mm.self_stresses)) == 239
+    assert mm.self_stresses.is_local == m.self_stresses.is_local and sum(m.self_stresses.is_local) >= 200
+    for x, y in zip(m.self_stresses, mm.self_stresses):
+        assert [label for label, _ in x.coefficients] == [label for label, _ in y.coefficients]
+        assert np.allclose([v for _, v in x.coefficients], [v for _, v in y.coefficients], rtol=1e-8, atol=1e-10)
+
+
+def test_local_stresses_of_a_spatial_truss():
+    """A Freudenthal grid of 6 × 6 × 5 nodes: (bars − 2) − (3n − 9) stresses (closed form), listed,
+    mostly local, in equilibrium, independent; their span is the dense path's."""
+    data = bench.spatial_truss(6, 6, 5)
+    mech = symkin.Mechanism.from_dict(data)
+    a = symkin.analyze(mech)
+    assert a.motion.sparse is not None
+    s = _check_listed_stresses(data, a)
+    flags = a.self_stresses.is_local
+    assert sum(flags) >= 0.8 * len(flags)
+    assert np.median([r.r for r in a.self_stresses]) <= 150
+    d = classify(model_rows(mech), DEFAULT)
+    names = list(data["links"])
+    # the dense canonical (echelon) form rounds its entries at 1e-8 of its largest, here ~1e3
+    assert _span_distance(_stress_matrix(d.self_stresses, names), s) <= 1e-7
