@@ -29,7 +29,8 @@ pairwise form and one full SVD) up to ``--dense-max`` nodes, and PyRigi 1.3
 (``Framework.is_inf_rigid(numerical=True)`` and ``Framework.stresses(numerical=True)`` on
 the same framework, unpinned: the same counts) up to ``--pyrigi-max`` nodes (planar and
 spatial), when it is installed.  The spatial rows say how the dependent rows were chosen
-(``LDLT``, ``pivoted``: :class:`symkin.analysis.sparse.SparseStresses`).  The growth exponents of time and memory over the planar sizes are the slopes
+(``LDLT``, ``pivoted``: :class:`symkin.analysis.sparse.SparseStresses`), how many of the listed
+stresses are local (:class:`symkin.numeric.sparse_rows.LocalStresses`) and their mean number of bars.  The growth exponents of time and memory over the planar sizes are the slopes
 of least-squares lines in log–log.  One thread (``OMP_NUM_THREADS=1``).
 """
 from __future__ import annotations
@@ -156,7 +157,8 @@ def _one(kind: str, n: int, what: str, folder: str) -> dict:
         json.dumps(a.to_dict())
         out["json"] = time.perf_counter() - t
         out.update(dof=a.dof, stresses=a.redundant_constraints, listed=len(a.self_stresses),
-                   choice=getattr(a.self_stresses, "choice", None))
+                   choice=getattr(a.self_stresses, "choice", None), local=getattr(a.self_stresses, "local", None),
+                   support=sum(r.r for r in a.self_stresses) / max(len(a.self_stresses), 1))
     elif what == "dense":
         t = time.perf_counter()
         a = classify(model_rows(mech))
@@ -261,7 +263,9 @@ def _print(rows) -> None:
               f"+{_fmt(r.get('text_mb'), 'MB')} up to the text report); "
               f"DOF {r['dof']}, {r['stresses']} self-stresses"
               + (f" ({r['listed']} listed)" if r.get("listed", r["stresses"]) != r["stresses"] else "")
-              + (f", rows chosen by {r['choice']}" if r.get("choice") else ""), flush=True)
+              + (f", rows chosen by {r['choice']}" if r.get("choice") else "")
+              + (f", {r['local']} local, {r['support']:.1f} bars a stress on average" if r.get("listed") else ""),
+              flush=True)
 
 
 def _summary(rows) -> None:
