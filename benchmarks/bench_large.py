@@ -264,7 +264,8 @@ def _print(rows) -> None:
               f"DOF {r['dof']}, {r['stresses']} self-stresses"
               + (f" ({r['listed']} listed)" if r.get("listed", r["stresses"]) != r["stresses"] else "")
               + (f", rows chosen by {r['choice']}" if r.get("choice") else "")
-              + (f", {r['local']} local, {r['support']:.1f} bars a stress on average" if r.get("listed") else ""),
+              + (f", {r['local']} local, {r['support']:.1f} bars a stress on average"
+                 if r.get("listed") and r.get("local") is not None else ""),
               flush=True)
 
 

@@ -27,6 +27,16 @@ pairwise form) takes this path instead:
   listed, with a warning.  They span the same space as the dense path's canonical (reduced
   row echelon) stresses, but are not that canonical basis: the echelon form of thousands of
   stresses is dense.
+* the stresses listed are **local** where possible
+  (:class:`~symkin.numeric.sparse_rows.LocalStresses`): for the k-th dependent row, a left
+  null vector of a small patch of rows around it (a dense SVD of at most
+  :data:`~symkin.numeric.sparse_rows.LOCAL_PATCH_ROWS` rows) with 1 on that row and 0 on the
+  later dependent rows; where no patch gives one, its fundamental stress (also 0 there).
+  Their entries on the dependent rows form a unit lower-triangular matrix, so they are a
+  basis whatever the rows' conditioning; their number of bars does not grow with the model
+  (a triangulated planar grid: 19 bars for most, ``benchmarks/bench_large.py``).  The first
+  dependent rows have the least freedom (the first one's stress is its fundamental stress),
+  so a choice of rows that fails its checks there still takes the repair above.
 
 The count of self-stresses is the dense path's: rows touching a free coordinate, minus the
 rank, minus the modelling artefacts (here: the rows of a body made dependent on its own
