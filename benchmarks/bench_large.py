@@ -27,8 +27,10 @@ with the JSON report).  Below the size switch (``symkin.analysis.sparse.LARGE_CO
 Baselines in the same run: the dense path (``classify(model_rows(m))``, the paper's
 pairwise form and one full SVD) up to ``--dense-max`` nodes, and PyRigi 1.3
 (``Framework.is_inf_rigid(numerical=True)`` and ``Framework.stresses(numerical=True)`` on
-the same framework, unpinned: the same counts) up to ``--pyrigi-max`` nodes, when it is
-installed.  The growth exponents of time and memory over the planar sizes are the slopes
+the same framework, unpinned: the same counts) up to ``--pyrigi-max`` nodes (planar and
+spatial), when it is installed.  The spatial rows say how the dependent rows were chosen
+(``LDLT``, ``pivoted``: :class:`symkin.analysis.sparse.SparseStresses`), how many of the listed
+stresses are local (:class:`symkin.numeric.sparse_rows.LocalStresses`) and their mean number of bars.  The growth exponents of time and memory over the planar sizes are the slopes
 of least-squares lines in log–log.  One thread (``OMP_NUM_THREADS=1``).
 """
 from __future__ import annotations
@@ -154,7 +156,9 @@ def _one(kind: str, n: int, what: str, folder: str) -> dict:
         t = time.perf_counter()
         json.dumps(a.to_dict())
         out["json"] = time.perf_counter() - t
-        out.update(dof=a.dof, stresses=a.redundant_constraints, listed=len(a.self_stresses))
+        out.update(dof=a.dof, stresses=a.redundant_constraints, listed=len(a.self_stresses),
+                   choice=getattr(a.self_stresses, "choice", None), local=getattr(a.self_stresses, "local", None),
+                   support=sum(r.r for r in a.self_stresses) / max(len(a.self_stresses), 1))
     elif what == "dense":
         t = time.perf_counter()
         a = classify(model_rows(mech))
@@ -209,9 +213,9 @@ def _have_pyrigi() -> bool:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--sizes", type=int, nargs="+", default=[100, 300, 1000, 3000, 10000])
-    p.add_argument("--spatial", type=int, nargs="*", default=[1000])
+    p.add_argument("--spatial", type=int, nargs="*", default=[1000, 3375])
     p.add_argument("--dense-max", type=int, default=300, help="largest planar size run on the dense path")
-    p.add_argument("--pyrigi-max", type=int, default=300, help="largest planar size run with PyRigi")
+    p.add_argument("--pyrigi-max", type=int, default=300, help="largest size (planar or spatial) run with PyRigi")
     p.add_argument("--no-body", action="store_true", help="skip the 1,000-node rigid body")
     p.add_argument("--json", help="write the rows to this file")
     p.add_argument("--one", nargs=4, help=argparse.SUPPRESS)
@@ -232,7 +236,7 @@ def main(argv=None) -> int:
             new = [row]
             if kind == "planar" and n <= args.dense_max:
                 new.append(_run(kind, n, "dense", folder))
-            if kind == "planar" and n <= args.pyrigi_max and _have_pyrigi():
+            if kind in ("planar", "spatial") and n <= args.pyrigi_max and _have_pyrigi():
                 new.append(_run(kind, n, "pyrigi", folder))
             _print(new)
             rows += new
@@ -258,7 +262,11 @@ def _print(rows) -> None:
               f"peak {_fmt(r['peak_mb'], 'MB')} (+{_fmt(r['case_mb'], 'MB')} for the case, "
               f"+{_fmt(r.get('text_mb'), 'MB')} up to the text report); "
               f"DOF {r['dof']}, {r['stresses']} self-stresses"
-              + (f" ({r['listed']} listed)" if r.get("listed", r["stresses"]) != r["stresses"] else ""), flush=True)
+              + (f" ({r['listed']} listed)" if r.get("listed", r["stresses"]) != r["stresses"] else "")
+              + (f", rows chosen by {r['choice']}" if r.get("choice") else "")
+              + (f", {r['local']} local, {r['support']:.1f} bars a stress on average"
+                 if r.get("listed") and r.get("local") is not None else ""),
+              flush=True)
 
 
 def _summary(rows) -> None:
@@ -274,9 +282,10 @@ def _summary(rows) -> None:
               f"(up to the text report {_slope(ns, [max(r['text_mb'], 1.0) for r in sparse]):.2f})")
     for what in ("dense", "pyrigi"):
         for r in (r for r in rows if r["what"] == what and "error" not in r):
-            s = next((x for x in sparse if x["n"] == r["n"]), None)
+            s = next((x for x in rows if x["kind"] == r["kind"] and x["what"] == "analyze" and x["n"] == r["n"]
+                      and "error" not in x), None)
             if s:
-                print(f"{r['n']} nodes: {what} / analyze = {r['analyze'] / s['analyze']:.1f}× "
+                print(f"{r['kind']} {r['n']} nodes: {what} / analyze = {r['analyze'] / s['analyze']:.1f}× "
                       f"(counts {what}: DOF {r['dof']}, {r['stresses']} stresses; analyze: DOF {s['dof']}, "
                       f"{s['stresses']})")
 

@@ -118,6 +118,14 @@ class Tolerances:
         ``1e-15``, at the rounding of an O(1) Gram matrix, so that an independent row a
         distance above ~1e-6 from the others is never taken for a dependent one.  The choice
         is verified: each self-stress it gives must pass the ``rank`` test.
+    sparse_local : float
+        Large models: a patch of rows around a dependent row ``d``
+        (:func:`symkin.numeric.sparse_rows.local_stress`) gives a local self-stress when the
+        ``d`` entries of an orthonormal basis of the patch's left null space have a norm of at
+        least ``sparse_local``; the stress (``w_d = 1``, least norm) then has a norm of at
+        most ``1 / sparse_local``.  Default ``1e-4``: well-conditioned stresses (the
+        fundamental stresses are accepted up to a norm of ``1 / rank``), a larger patch
+        is tried otherwise.
     kernel_margin : float
         Factor on singular values by which the generated indicator kernel must clear the
         rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
@@ -133,6 +141,7 @@ class Tolerances:
     kernel_margin: float = 100.0
     sparse_window: float = 1e-4
     sparse_gram: float = 1e-15
+    sparse_local: float = 1e-4
     newton: float = 1e-12
     closure: float = 1e-13
     locate: float = 1e-14

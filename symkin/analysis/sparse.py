@@ -13,13 +13,31 @@ pairwise form) takes this path instead:
   mode, then a Rayleigh–Ritz step on ``J``): the rank is decided, as on the dense path, by
   ``σ <= rank · σ_max`` on singular values of ``J`` accurate to rounding;
 * the self-stresses are the **fundamental** stresses of the dependent rows
-  (:func:`symkin.numeric.linalg.sparse_dependent_rows`,
-  :class:`~symkin.numeric.linalg.FundamentalStresses`): one per dependent row ``k``,
+  (:class:`~symkin.numeric.linalg.FundamentalStresses`): one per dependent row ``k``,
   with coefficient 1 on row k, each checked (``‖Jᵀω‖ <= rank · σ_max · ‖ω‖``, the rank
-  test), computed when read (:class:`SparseStresses`).  They span the same space as the dense path's canonical (reduced row echelon)
-  stresses, but are not that canonical basis: the echelon form of thousands of stresses
-  is dense, theirs stay as sparse as the structure lets them (a stress local to a few bars
-  stays on them).
+  test, and ``‖ω‖ <= 1 / rank``), computed when read (:class:`SparseStresses`).  The
+  dependent rows are first chosen by the pivots of an LDLᵀ of ``J Jᵀ + δI``
+  (:func:`symkin.numeric.linalg.sparse_dependent_rows`: cheap, and its stresses stay as
+  local as the structure lets them, but it is not rank-revealing); where a stress of that
+  choice fails its checks, by Gaussian elimination with partial pivoting on ``J``
+  (:func:`symkin.numeric.sparse_rows.pivoted_dependent_rows`), whose stresses are
+  well-conditioned but reach many rows (about half of them in a spatial truss): that repair
+  is made only where such a listing fits :data:`symkin.model.validation.DENSE_ANALYSIS_BYTES`,
+  then the dense left null space if it fits, else the stresses are counted (exactly) and not
+  listed, with a warning.  They span the same space as the dense path's canonical (reduced
+  row echelon) stresses, but are not that canonical basis: the echelon form of thousands of
+  stresses is dense.
+* the stresses listed are **local** where possible
+  (:class:`~symkin.numeric.sparse_rows.LocalStresses`): for the k-th dependent row, a left
+  null vector of a small patch of rows around it (a dense SVD of at most
+  :data:`~symkin.numeric.sparse_rows.LOCAL_PATCH_ROWS` rows) with 1 on that row and 0 on the
+  later dependent rows; where no patch gives one, its fundamental stress (also 0 there).
+  Their entries on the dependent rows form a unit lower-triangular matrix, so they are a
+  basis whatever the rows' conditioning; their number of bars is bounded by the patch's
+  (a triangulated planar grid: a median of 19 bars at 992 nodes, 39 at 2,970, where the LDLᵀ
+  orders the rows otherwise), not by the model's.  The first
+  dependent rows have the least freedom (the first one's stress is its fundamental stress),
+  so a choice of rows that fails its checks there still takes the repair above.
 
 The count of self-stresses is the dense path's: rows touching a free coordinate, minus the
 rank, minus the modelling artefacts (here: the rows of a body made dependent on its own
@@ -39,6 +57,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.sparse as sps
+from scipy.linalg import qr
 from scipy.sparse.linalg import ArpackNoConvergence
 
 from symkin.analysis.configuration_rows import ConfigurationRows
@@ -49,7 +68,8 @@ from symkin.model.mechanism import Mechanism
 from symkin.model.validation import dense_size_problem
 from symkin.numeric.linalg import (FundamentalStresses, left_null_space, sparse_dependent_rows,
                                    sparse_small_singular, svd_null_space)
-from symkin.numeric.sparse_rows import pairwise_row_count, shared_body_pairs, sparse_constraint_rows
+from symkin.numeric.sparse_rows import (LOCAL_PATCH_ROWS, LocalStresses, pairwise_row_count, pivoted_dependent_rows,
+                                       shared_body_pairs, sparse_constraint_rows)
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["LARGE_COORDINATES", "LARGE_ROWS", "MAX_MOTIONS", "is_large", "check_dense_size", "sparse_rows",
@@ -67,6 +87,14 @@ MAX_MOTIONS = 2000
 #: self-stresses computed at a time when a large model's are read (:class:`SparseStresses`):
 #: 8 first (a report shows 5), then as many as already computed, up to this many
 CHUNK = 256
+#: bytes of one listed entry (a bar's label and force in a Python tuple), to estimate a listing's size
+LISTED_ENTRY_BYTES = 120
+#: whether the stresses listed are local ones where found (:class:`~symkin.numeric.sparse_rows.LocalStresses`)
+LOCAL = True
+#: rows of the largest patch tried for a dependent row whose fundamental stress fails its checks
+RETRY_PATCH_ROWS = 800
+#: stresses computed and checked when a choice of dependent rows is made (:class:`SparseStresses`)
+_FIRST = 8
 
 
 def _free_count(mech: Mechanism) -> int:
@@ -194,15 +222,133 @@ class SparseStresses(Sequence):
         self._count = count
         self._done: list[Relation] = []
         self._fundamental = None
+        self._dependent = None  # the dependent rows of the current choice (of J[used])
+        self._null = ms.V_free
         self.unlisted: str | None = None  # why the stresses are not listed (their count still is)
+        #: how the dependent rows were chosen: "LDLT" (the Gram matrix's pivots), "pivoted" (Gaussian
+        #: elimination with partial pivoting, when the first choice failed its checks), "dense" (the
+        #: dense left null space), or "unlisted" (the stresses are counted only: see ``unlisted``)
+        self.choice: str | None = None
+        self._guess = None
+        self._raw: list[tuple[np.ndarray, np.ndarray]] = []  # the stresses read, as (rows of J[used], values)
+        self._order = np.arange(count)  # the fundamental stresses listed after those kept from a former choice
+        self._local = self._local_of = None
+        self._jt = self._ju.T.tocsr().tocsc() if count > 0 else None  # Jᵀ by columns (rows of J): the checks
+        #: stresses read that are local (:class:`~symkin.numeric.sparse_rows.LocalStresses`), and those that
+        #: are the fundamental stresses of their dependent rows (no local one found within the patch limit)
+        self.local = 0
+        self.fallback = 0
+        self.is_local: list[bool] = []  # per stress read: local (True) or fundamental (False)
         if count > 0:
+            self._choose()
+
+    def _choose(self) -> None:
+        """The dependent rows: the LDLᵀ choice, else its partial-pivoting repair, else the dense path.
+
+        Each choice is kept if its first stresses pass their checks (:meth:`_take`).  A later
+        stress that fails (:meth:`_more`) moves to the next choice; the stresses already read
+        stay, first, and the new choice gives the others: those of its fundamental stresses
+        that complete them to a basis (:meth:`_exchange`).
+        """
+        if self.choice is None:
             try:
-                dependent = sparse_dependent_rows(self._ju, count, tolerances.sparse_gram)
-                self._fundamental = FundamentalStresses(self._ju, dependent, ms.V_free)
+                self._guess = sparse_dependent_rows(self._ju, self._count, self._tol.sparse_gram)
+                # built when a stress needs it (no local one): the local stresses need only the rows
+                self._fundamental, self._dependent = None, self._guess
+                self.choice = "LDLT"
+                self._order = np.arange(self._count)
+                if self._take(0, _FIRST):  # the first few at once: a poor choice of rows shows here, at analysis time
+                    return
             except RuntimeError:  # SuperLU: the rows chosen are singular
-                self._dense()
-            else:
-                self._more()  # the first few at once: a poor choice of rows shows here, at analysis time
+                pass
+        if self.choice in (None, "LDLT") and self._guess is not None:
+            self.choice = "pivoted"
+            if self._too_large_to_list(len(self._done)):
+                return
+            try:
+                rows = pivoted_dependent_rows(self._ju, self._guess, self._null)
+                self._fundamental = FundamentalStresses(self._ju, rows, self._null)
+                self._dependent = rows
+                h = len(self._done)
+                if self._exchange() and self._take(h, h + _FIRST):
+                    self._check_listing_size(h)
+                    return
+            except RuntimeError:
+                pass
+        self._fundamental = None
+        self.choice = "dense"
+        if self._done:
+            raise SymkinError("the self-stresses cannot be listed: the rows chosen as a basis fail the rank "
+                              "test after some stresses were read")
+        self._dense()
+
+    def _too_large_to_list(self, h: int) -> bool:
+        """Whether a listing of stresses reaching half the rows would exceed the limit (then not listed).
+
+        Checked before the partial-pivoting repair, whose factorisation is costly: its
+        fundamental stresses reach about half the rows on the spatial trusses measured (47–49 %
+        at 1,000–1,728 nodes, ``benchmarks/bench_large.py``).
+        """
+        m = self._ju.shape[0]
+        need = self._count * (m / 2) * LISTED_ENTRY_BYTES
+        from symkin.model import validation
+
+        if need <= validation.DENSE_ANALYSIS_BYTES:
+            return False
+        message = (f"the first choice of dependent rows fails the rank test, and the stresses of the "
+                   f"partial-pivoting choice (about {m // 2} bars each) would take about {need / 1024 ** 3:.1f} GiB "
+                   f"to list, above the limit of {validation.DENSE_ANALYSIS_BYTES / 1024 ** 3:g} GiB")
+        if h:
+            raise SymkinError(f"the self-stresses cannot be listed: {message}")
+        self.unlisted, self._done, self._raw, self._fundamental = message, [], [], None
+        self.is_local, self.local, self.fallback = [], 0, 0
+        self.choice = "unlisted"
+        return True
+
+    def _check_listing_size(self, h: int) -> None:
+        """Refuse to list stresses whose listing would exceed the dense limit (estimated from those computed).
+
+        A fundamental stress of the partial-pivoting choice may reach many rows (in a spatial
+        truss, about half of them): the listing then grows as (count × rows), beyond
+        :data:`symkin.model.validation.DENSE_ANALYSIS_BYTES` at a few thousand nodes.
+        """
+        from symkin.model import validation
+
+        entries = sum(rows.size for rows, _ in self._raw[h:]) / max(len(self._raw) - h, 1)
+        need = entries * self._count * LISTED_ENTRY_BYTES
+        if need > validation.DENSE_ANALYSIS_BYTES:
+            message = (f"listing them would take about {need / 1024 ** 3:.1f} GiB (about {entries:.0f} bars each, "
+                       f"the rows chosen by partial pivoting), above the limit of "
+                       f"{validation.DENSE_ANALYSIS_BYTES / 1024 ** 3:g} GiB")
+            if h:
+                raise SymkinError(f"the self-stresses cannot be listed: {message}")
+            self.unlisted, self._done, self._raw = message, [], []
+            self.is_local, self.local, self.fallback = [], 0, 0
+
+    def _exchange(self) -> bool:
+        """Keep the stresses read (``h`` of them) and drop ``h`` of the new fundamental stresses.
+
+        A stress's coordinates in the new fundamental basis are its entries on the new
+        dependent rows; the ``h`` columns of the ``h × count`` matrix of those coordinates
+        chosen by a pivoted QR are the new stresses the old ones replace (the exchange lemma:
+        the result is a basis when the pivots are nonzero at the rank tolerance).
+        """
+        h = len(self._done)
+        self._order = np.arange(self._count)
+        if not h:
+            return True
+        dependent = self._dependent
+        coords = np.zeros((h, self._count))
+        for i, (rows, coef) in enumerate(self._raw):
+            at = np.searchsorted(dependent, rows)
+            hit = (at < dependent.size) & (dependent[np.minimum(at, dependent.size - 1)] == rows)
+            coords[i, at[hit]] = coef[hit]
+        r, piv = qr(coords, pivoting=True, mode="r")
+        d = np.abs(np.diag(r))
+        if d.size < h or d.min() <= self._tol.rank * d.max():
+            return False
+        self._order = np.setdiff1d(self._order, piv[:h])
+        return True
 
     @property
     def count(self) -> int:
@@ -245,22 +391,82 @@ class SparseStresses(Sequence):
 
     def _more(self) -> None:
         start = len(self._done)
+        if not self._take(start, start + min(CHUNK, max(8, start))):  # the next choice, from the start
+            self._choose()
+            if self.unlisted:
+                raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
+
+    def _take(self, start: int, stop: int) -> bool:
+        """Compute and keep stresses ``start:stop`` if each passes its checks (else keep none).
+
+        A stress is the local one of its dependent row where a patch of at most
+        :data:`~symkin.numeric.sparse_rows.LOCAL_PATCH_ROWS` rows gives one, else its
+        fundamental stress, else (that one failing its checks: a poor choice of rows) the local
+        one of a patch of up to :data:`RETRY_PATCH_ROWS` rows; else the choice fails.
+        """
         # entries below rank^1.5 (1e-12 by default) of a stress's largest are rounding of the solve: exact zeros
-        w = self._fundamental.columns(start, start + min(CHUNK, max(8, start)), self._tol.rank ** 1.5)
+        h = self._count - self._order.size  # stresses kept from a former choice, listed first
+        index = self._order[start - h: stop - h]
+        use_local = h == 0 and LOCAL
+        found = self._locals(index) if use_local else {}
+        rest = np.array([k for k in index.tolist() if k not in found], dtype=int)
+        if rest.size:
+            try:
+                if self._fundamental is None:
+                    self._fundamental = FundamentalStresses(self._ju, self._dependent, self._null)
+                parts = np.split(rest, np.flatnonzero(np.diff(rest) != 1) + 1)
+                fund = sps.hstack([self._fundamental.columns(int(p[0]), int(p[-1]) + 1, self._tol.rank ** 1.5)
+                                   for p in parts], format="csc")
+                ok = self._passes(fund)
+            except RuntimeError:  # SuperLU: the rows left are singular
+                fund, ok = None, np.zeros(rest.size, dtype=bool)
+            bad = rest[~ok]
+            if bad.size and not use_local:
+                return False
+            retry = self._locals(bad, RETRY_PATCH_ROWS) if bad.size else {}
+            if len(retry) < bad.size:
+                return False
+            fallback = {k: (fund.indices[fund.indptr[c]: fund.indptr[c + 1]], fund.data[fund.indptr[c]: fund.indptr[c + 1]])
+                        for c, k in enumerate(rest.tolist()) if ok[c]}
+        else:
+            retry, fallback = {}, {}
+        for k in index.tolist():
+            rows, coef = found.get(k) or retry.get(k) or fallback[k]
+            self._raw.append((rows.copy(), coef.copy()))
+            self._add(self._used[rows], coef)
+            self.is_local.append(k not in fallback)
+        self.local += index.size - len(fallback)
+        self.fallback += len(fallback)
+        return True
+
+    def _passes(self, w) -> np.ndarray:
+        """Which columns of ``w`` pass the checks of a stress.
+
+        A stress passes the rank test (relative to its norm), and its 1 on its own dependent
+        row stays above the rank tolerance of its norm (else the stresses are not independent
+        at the threshold: the rows chosen as a basis are dependent there).
+        """
         residual = abs(self._ju.T @ w).max(axis=0).toarray().ravel()
         norms = np.sqrt(np.asarray(w.multiply(w).sum(axis=0)).ravel())
-        # a stress passes the rank test (relative to its norm), and its 1 on its own dependent row stays
-        # above the rank tolerance of its norm (else the stresses are not independent at the threshold:
-        # the rows chosen as a basis are dependent there)
-        ok = (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
-        if not np.all(ok):  # ill-conditioned rows: the dense left null space, if it fits
-            self._dense()
-            if self.unlisted and start:  # found late, after some were read
-                raise SymkinError(f"the self-stresses cannot be listed: {self.unlisted}")
-            return
-        for c in range(w.shape[1]):
-            lo, hi = w.indptr[c], w.indptr[c + 1]
-            self._add(self._used[w.indices[lo:hi]], w.data[lo:hi])
+        return (residual <= self._tol.rank * self._smax * norms) & (norms * self._tol.rank <= 1.0)
+
+    def _locals(self, index: np.ndarray, max_rows: int = LOCAL_PATCH_ROWS) -> dict:
+        """Local stresses (:class:`~symkin.numeric.sparse_rows.LocalStresses`) of the dependent rows
+        ``index``, those found and passing the rank test on the whole ``J``: position → (rows, values)."""
+        if self._local is None or self._local_of is not self._dependent:
+            self._local_of = self._dependent
+            self._local = LocalStresses(self._ju, self._dependent, self._tol.rank * self._smax,
+                                        self._tol.sparse_local, self._tol.rank ** 1.5)
+        out = {}
+        for k in index.tolist():
+            got = self._local.stress(k, max_rows)
+            if got is None:
+                continue
+            rows, w = got
+            residual = np.abs(self._jt[:, rows] @ w).max(initial=0.0)
+            if residual <= self._tol.rank * self._smax * float(np.linalg.norm(w)):
+                out[k] = got
+        return out
 
     def _add(self, rows: np.ndarray, coef: np.ndarray) -> None:
         if self._copies:
@@ -276,7 +482,7 @@ class SparseStresses(Sequence):
             self.unlisted = problem.message
             return
         basis = left_null_space(self._ju.toarray(), self._tol.rank * self._smax)[:, : self._count]
-        self._done = []
+        self._done, self._raw, self.is_local, self.local, self.fallback = [], [], [], 0, 0
         for c in range(basis.shape[1]):
             col = basis[:, c]
             keep = np.flatnonzero(np.abs(col) > self._tol.rank * np.abs(col).max())

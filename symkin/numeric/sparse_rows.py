@@ -40,7 +40,12 @@ from symkin.numeric.geometric_matrix import _slider_rows, _unit_vectors, affine_
 from symkin.numeric.linalg import affine_hull
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["SparseRows", "sparse_constraint_rows", "pairwise_row_count", "shared_body_pairs"]
+__all__ = ["SparseRows", "sparse_constraint_rows", "pairwise_row_count", "shared_body_pairs",
+           "pivoted_dependent_rows", "LOCAL_PATCH_ROWS", "LocalStresses", "local_stress"]
+
+#: rows of the largest patch on which :func:`local_stress` looks for a local self-stress (a dense
+#: SVD of at most this many rows; a planar truss's stress is found on ~30 rows, a spatial one's on ~150)
+LOCAL_PATCH_ROWS = 200
 
 
 @dataclass(frozen=True, eq=False)
@@ -257,3 +262,166 @@ def _dependent_in_body(matrix, rows: np.ndarray, frame_nodes: list[int], free: n
     block = sub[cand][:, cols].toarray()
     keep = set(independent_rows(block, tolerances.rank))
     return [int(rows[c]) for k, c in enumerate(cand) if k not in keep]
+
+
+def pivoted_dependent_rows(a, guess: np.ndarray, null: np.ndarray) -> np.ndarray:
+    """Rows of the sparse ``a`` (m, n) that depend on the others, chosen by partial pivoting (ascending).
+
+    The rank-revealing repair of a first choice ``guess`` of dependent rows (as many as
+    ``a`` has dependent rows: ``m − rank``) whose other rows are independent but may be
+    ill-conditioned.  ``L = null.shape[1]`` columns on which the right null space ``null``
+    (n, L) is nonsingular are dropped (pivoted QR of ``nullᵀ``), leaving ``A`` (m, r) of full
+    column rank ``r = rank``.  SuperLU factorises the square ``M = [A | E]`` (``E``: the
+    identity columns of the guessed rows; ``M`` is nonsingular iff the rows outside
+    ``guess`` are independent), its columns in the order given (``A``'s in a minimum-degree
+    order of ``AᵀA``, then ``E``'s: no etree post-order in symmetric mode) with **partial
+    pivoting** (``diag_pivot_thresh = 1``): each of ``A``'s columns takes as pivot the row of
+    largest magnitude left, so the ``r`` rows pivoted on ``A``'s columns are those of
+    Gaussian elimination with partial pivoting on ``A`` — the guess does not enter their
+    choice — and the rows pivoted on ``E``'s columns are the dependent ones returned.  The
+    multipliers are at most 1, so the basis rows are well-conditioned as far as partial
+    pivoting reveals rank; the caller verifies the stresses they give.
+
+    Raises
+    ------
+    RuntimeError
+        From SuperLU, when the rows outside ``guess`` are singular (``M`` is).
+    """
+    import scipy.sparse.linalg as spla
+    from scipy.linalg import qr
+
+    a = sps.csr_matrix(a)
+    m, n = a.shape
+    guess = np.asarray(guess, dtype=int)
+    keep = np.arange(n)
+    if null.shape[1]:
+        keep = np.setdiff1d(keep, qr(null.T, pivoting=True, mode="r")[1][: null.shape[1]])
+    ak = a[:, keep].tocsc()
+    r = keep.size
+    if r + guess.size != m:
+        raise ValueError(f"{guess.size} dependent rows guessed for {m} rows of rank {r}")
+    if r:
+        g = (ak.T @ ak).tocsc()
+        shift = float(abs(g).max()) * np.finfo(float).eps
+        order = np.argsort(spla.splu(g + shift * sps.identity(r, format="csc"), permc_spec="MMD_AT_PLUS_A",
+                                     diag_pivot_thresh=0.0, options={"SymmetricMode": True}).perm_c)
+        ak = ak[:, order]
+    e = sps.csc_matrix((np.ones(guess.size), (guess, np.arange(guess.size))), shape=(m, guess.size))
+    lu = spla.splu(sps.hstack([ak, e], format="csc"), permc_spec="NATURAL", diag_pivot_thresh=1.0,
+                   options={"SymmetricMode": True})
+    if not np.array_equal(lu.perm_c, np.arange(m)):  # SuperLU kept the columns' order (no post-order)
+        raise RuntimeError("SuperLU reordered the columns")
+    return np.flatnonzero(lu.perm_r >= r)
+
+
+def _gather(indptr: np.ndarray, indices: np.ndarray, sel: np.ndarray) -> np.ndarray:
+    """The indices of the compressed rows (or columns) ``sel`` of a CSR (CSC) structure, concatenated."""
+    starts, lens = indptr[sel], indptr[sel + 1] - indptr[sel]
+    if not lens.sum():
+        return np.zeros(0, dtype=indices.dtype)
+    offset = np.repeat(starts - (np.cumsum(lens) - lens), lens)
+    return indices[offset + np.arange(int(lens.sum()))]
+
+
+class LocalStresses:
+    """Local self-stresses of a sparse ``a`` (m, n) for an ordered list of its dependent rows.
+
+    For the ``k``-th dependent row ``d_k`` the **allowed** rows are all rows but the later
+    dependent rows ``d_j`` (``j > k``).  :meth:`stress` grows closed patches around ``d_k``
+    in the row–column graph of ``a`` (columns within ``r`` steps of ``d_k``'s, and the allowed
+    rows all of whose columns are among them; ``r = 0, 1, 2, …`` while the patch has at most
+    ``max_rows`` rows) and returns the first stress found: a left null vector of the patch
+    (a dense SVD; singular values ``<= threshold`` count as zero) with ``w_{d_k} = 1``, of
+    least norm.  A vector supported on a patch that is null on the patch's columns is null
+    on all of ``a``'s (the patch's rows touch no other column), so it is a self-stress of
+    ``a``; it is zero on the later dependent rows, so the stresses of ``d_1 … d_m`` have a
+    unit lower-triangular matrix of entries on those rows: they are independent.
+
+    Parameters
+    ----------
+    a : sparse (m, n)
+    dependent : ndarray of int
+        The dependent rows, in the order that defines the allowed rows.
+    threshold : float
+        Absolute singular-value threshold (the rank test's ``rank · σ_max`` of ``a``).
+    floor : float
+        Least norm of the ``d_k`` entries of an orthonormal null basis (the stress's norm is
+        at most ``1 / floor``; :attr:`symkin.tolerances.Tolerances.sparse_local`).
+    drop : float
+        Entries ``<= drop · max|w|`` are exact zeros.
+    """
+
+    def __init__(self, a, dependent: np.ndarray, threshold: float, floor: float, drop: float,
+                 max_rows: int = LOCAL_PATCH_ROWS):
+        a = sps.csr_matrix(a)
+        a.sort_indices()
+        self._csr, self._csc = a, a.tocsc()
+        self._csc.sort_indices()
+        self.dependent = np.asarray(dependent, dtype=int)
+        self._position = np.full(a.shape[0], -1, dtype=np.int64)
+        self._position[self.dependent] = np.arange(self.dependent.size)
+        self._threshold, self._floor, self._drop, self._max_rows = threshold, floor, drop, max_rows
+
+    def stress(self, k: int, max_rows: int | None = None) -> tuple[np.ndarray, np.ndarray] | None:
+        """The local stress of the ``k``-th dependent row as (rows ascending, values), or None.
+
+        ``max_rows`` (default: the one given at construction) bounds the patch's rows.
+        """
+        max_rows = self._max_rows if max_rows is None else max_rows
+        a, at = self._csr, self._csc
+        d = int(self.dependent[k])
+        cols = np.unique(_gather(a.indptr, a.indices, np.array([d])))
+        incol = np.zeros(a.shape[1], dtype=bool)
+        previous = 0
+        while True:
+            incol[cols] = True
+            cand = np.unique(_gather(at.indptr, at.indices, cols))
+            cand = cand[self._position[cand] <= k]  # allowed: not a later dependent row
+            lens = a.indptr[cand + 1] - a.indptr[cand]
+            inside = np.add.reduceat(incol[_gather(a.indptr, a.indices, cand)].astype(np.int64),
+                                     np.concatenate([[0], np.cumsum(lens)[:-1]])) == lens if cand.size else cand
+            patch = cand[inside] if cand.size else cand
+            if patch.size > max_rows:
+                return None
+            if patch.size > previous:
+                found = self._on(patch, cols, d)
+                if found is not None:
+                    return found
+            previous = patch.size
+            grown = np.unique(_gather(a.indptr, a.indices, cand))
+            if grown.size == cols.size:  # the component is exhausted
+                return None
+            cols = grown
+
+    def _on(self, patch: np.ndarray, cols: np.ndarray, d: int):
+        block = self._csr[patch][:, cols].toarray()
+        u, s, _ = np.linalg.svd(block, full_matrices=True)
+        null = u[:, int(np.count_nonzero(s > self._threshold)):]
+        if not null.shape[1]:
+            return None
+        at = int(np.searchsorted(patch, d))
+        c = null[at]
+        size = float(np.linalg.norm(c))
+        if size < self._floor:
+            return None
+        w = null @ (c / size ** 2)
+        w[at] = 1.0
+        keep = np.flatnonzero(np.abs(w) > self._drop * np.abs(w).max())
+        return patch[keep], w[keep]
+
+
+def local_stress(a, dependent: np.ndarray, k: int, threshold: float, floor: float, drop: float,
+                 max_rows: int = LOCAL_PATCH_ROWS):
+    """The local self-stress of the ``k``-th of the ``dependent`` rows of ``a`` (see :class:`LocalStresses`).
+
+    Examples
+    --------
+    Four rows on two coordinates, rows 2 and 3 dependent: the stress of row 2 may not use
+    row 3 (a later dependent row), so it is ``e_2 − e_0 − e_1``.
+
+    >>> a = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 1.0]])
+    >>> rows, w = local_stress(a, np.array([2, 3]), 0, 1e-8, 1e-4, 1e-12)
+    >>> rows.tolist(), np.round(w, 12).tolist()
+    ([0, 1, 2], [-1.0, -1.0, 1.0])
+    """
+    return LocalStresses(a, dependent, threshold, floor, drop, max_rows).stress(k)

@@ -253,61 +253,14 @@ def test_a_model_too_large_for_the_dense_path_is_refused_with_its_size(tmp_path)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr and "limit of 2 GiB" in proc.stderr
 
 
-def _frameworks():
-    from tests.analysis.test_statics import FRAMEWORKS
-
-    return FRAMEWORKS
-
-
-@pytest.mark.parametrize("name", list(_frameworks()))
-def test_sparse_stress_count_agrees_with_pyrigi(name):
-    """The frameworks of ``test_statics`` (PyRigi's stress count there): the sparse path counts the same."""
-    pyrigi = pytest.importorskip("pyrigi")
-    nodes, bars = _frameworks()[name]
-    expected = len(pyrigi.Framework(pyrigi.Graph([(b[0], b[1]) for b in bars]),
-                                    {n: list(x) for n, x in nodes.items()}).stresses(numerical=True))
-    mech = symkin.Mechanism.from_dict({"dim": 2, "mobility": 0,
-                                       "nodes": {n: list(map(float, x)) for n, x in nodes.items()},
-                                       "links": {b: [b[0], b[1]] for b in bars}})
-    s = classify(sparse.sparse_rows(mech), DEFAULT)
-    assert s.redundant_constraints == len(tuple(s.self_stresses)) == expected
-
-
-def _pyrigi_db():
-    """Frameworks of PyRigi's ``frameworkDB`` (name, constructor, arguments), planar and spatial."""
-    # (PyRigi realises K_n and C_n in space only for n <= dim + 1)
-    cases = [("Complete", (n,), {"dim": d}) for n in range(3, 8) for d in (2, 3) if d == 2 or n <= 4]
-    cases += [("Cycle", (n,), {"dim": d}) for n in (4, 5, 6) for d in (2, 3) if d == 2 or n <= 4]
-    cases += [("Wheel", (n,), {}) for n in (4, 5, 6, 7)] + [("Frustum", (n,), {}) for n in (3, 4, 5)]
-    cases += [("CompleteBipartite", (a, b), {}) for a, b in ((3, 3), (3, 4), (4, 4))]
-    cases += [(name, (), {}) for name in ("Square", "Diamond", "K33plusEdge", "ThreePrism", "ThreePrismPlusEdge",
-                                          "Cube", "Octahedron", "Icosahedron", "Dodecahedron", "SecondOrderRigid",
-                                          "CnSymmetricFourRegular", "CnSymmetricWithFixedVertex")]
-    return cases
-
-
-@pytest.mark.parametrize("name,args,kwargs", _pyrigi_db(),
-                         ids=[f"{n}{a}{k.get('dim', '')}" for n, a, k in _pyrigi_db()])
-def test_both_paths_count_pyrigi_s_stresses_on_its_framework_database(name, args, kwargs):
-    """PyRigi 1.3's own frameworks: its numerical stress count = the dense = the sparse path's."""
-    db = pytest.importorskip("pyrigi.frameworkDB")
-    fw = getattr(db, name)(*args, **kwargs)
-    expected = len(fw.stresses(numerical=True))
-    points = fw.realization(as_points=True, numerical=True)
-    dim = len(next(iter(points.values())))
-    mech = symkin.Mechanism.from_dict({"dim": dim, "mobility": 0,
-                                       "nodes": {f"V{v}": [float(c) for c in p] for v, p in points.items()},
-                                       "links": {f"e{k}": [f"V{a}", f"V{b}"] for k, (a, b) in
-                                                 enumerate(fw.graph.edges)}})
-    d, s = _both(mech)
-    assert d.redundant_constraints == s.redundant_constraints == expected
-    assert d.dof == s.dof
-
-
 def _bad_choice(a, count, regularisation):
     """A wrong choice of dependent rows: the first ``count`` (the grid's lower part); the rows left are
     not a basis, so SuperLU or the checks of the stresses reject the choice."""
     return np.arange(count)
+
+
+def _no_repair(a, guess, null):
+    raise RuntimeError("no partial-pivoting repair in this test")
 
 
 def test_a_poor_choice_of_rows_falls_back_to_the_dense_stresses(monkeypatch):
@@ -315,8 +268,10 @@ def test_a_poor_choice_of_rows_falls_back_to_the_dense_stresses(monkeypatch):
     mech = symkin.Mechanism.from_dict(data)
     d = classify(model_rows(mech), DEFAULT)
     monkeypatch.setattr(sparse, "sparse_dependent_rows", _bad_choice)
+    monkeypatch.setattr(sparse, "pivoted_dependent_rows", _no_repair)
     a = symkin.analyze(mech)
     assert a.redundant_constraints == len(a.self_stresses) == 234 and not a.warnings
+    assert a.self_stresses.choice == "dense"
     labels = sorted({label for x in (a, d) for r in x.self_stresses for label, _ in r.coefficients})
     assert _span_distance(_stress_matrix(d.self_stresses, labels), _stress_matrix(a.self_stresses, labels)) <= 1e-8
 
@@ -326,9 +281,166 @@ def test_stresses_are_counted_not_listed_when_the_dense_fallback_does_not_fit(mo
 
     mech = symkin.Mechanism.from_dict(bench.planar_truss(15, 20))
     monkeypatch.setattr(sparse, "sparse_dependent_rows", _bad_choice)
+    monkeypatch.setattr(sparse, "pivoted_dependent_rows", _no_repair)
     monkeypatch.setattr(validation, "DENSE_ANALYSIS_BYTES", 1000)
     a = symkin.analyze(mech)
     assert (a.dof, a.redundant_constraints, len(a.self_stresses)) == (0, 234, 0)
     assert any("234 self-stresses are counted but not listed" in w for w in a.warnings)
+    # the repair is not even tried: a listing of stresses reaching half the rows would not fit the limit
+    assert a.self_stresses.choice == "unlisted" and any("above the limit of" in w for w in a.warnings)
     assert "234 redundant constraints (self-stresses counted, not listed: see the warning)." in render_text(a)
     assert json.loads(json.dumps(a.to_dict()))["redundant_constraints"] == 234
+
+
+def test_partial_pivoting_repairs_an_ill_conditioned_choice_of_rows():
+    """Rows 0, 1, 2 nearly dependent (row 0 = row 1 + row 2 + 1e-11): a guess keeping them all as the
+    basis is nonsingular but has condition ~1e11; the repaired basis is well-conditioned, and the
+    rows it sets aside are as many as guessed."""
+    from symkin.numeric.sparse_rows import pivoted_dependent_rows
+
+    rng = np.random.default_rng(3)
+    a = rng.standard_normal((12, 5))
+    a[0] = a[1] + a[2] + 1e-11 * rng.standard_normal(5)
+    guess = np.arange(5, 12)
+    assert np.linalg.cond(a[:5]) > 1e9
+    dependent = pivoted_dependent_rows(a, guess, np.zeros((5, 0)))
+    basis = np.setdiff1d(np.arange(12), dependent)
+    assert dependent.size == 7 and np.linalg.cond(a[basis]) < 1e3
+    # with a right null space: the column it makes dependent is dropped (rank 4 of 5 columns)
+    b = np.hstack([a[:, :4], a[:, :1] + a[:, 1:2]])
+    null = np.linalg.svd(b)[2][-1:].T
+    dependent = pivoted_dependent_rows(b, np.arange(4, 12), null)
+    basis = np.setdiff1d(np.arange(12), dependent)
+    assert dependent.size == 8 and np.linalg.matrix_rank(b[basis]) == 4
+
+
+def test_a_spatial_truss_whose_ldlt_choice_fails_is_listed_by_partial_pivoting():
+    """A Freudenthal grid of 9 × 9 × 9 nodes (seed 1): the LDLᵀ pivots of its Gram matrix choose rows
+    whose stresses fail the rank test after the first ones; the partial-pivoting choice lists all
+    (bars − 2) − (3n − 9) of them (closed form, rigid), each in equilibrium at every free node (the
+    equilibrium matrix built here from the coordinates), independent (rank of the listed stresses)."""
+    data = bench.spatial_truss(9, 9, 9)
+    mech = symkin.Mechanism.from_dict(data)
+    a = symkin.analyze(mech)
+    assert a.motion.sparse is not None and a.dof == 0
+    n, bars = len(data["nodes"]), len(data["links"])
+    stresses = tuple(a.self_stresses)
+    assert a.self_stresses.choice == "pivoted"
+    assert a.redundant_constraints == len(stresses) == (bars - 2) - (3 * n - 9)
+    names = list(data["links"])
+    s = _stress_matrix(stresses, names)
+    free = {name: k for k, name in enumerate(sorted(set(data["nodes"]) - set(data["fixed"])))}
+    equilibrium = np.zeros((3 * len(free), len(names)))
+    for c, bar in enumerate(names):
+        i, j = data["links"][bar]
+        u = np.subtract(data["nodes"][j], data["nodes"][i])
+        u = u / np.linalg.norm(u)
+        for node, sign in ((i, 1.0), (j, -1.0)):
+            if node in free:
+                equilibrium[3 * free[node]: 3 * free[node] + 3, c] = sign * u
+    assert (np.abs(equilibrium @ s).max(axis=0) <= 1e-9 * np.abs(s).max(axis=0)).all()
+    assert np.linalg.matrix_rank(s) == len(stresses)
+
+
+# ---------------------------------------------------------------------- local self-stresses
+def _equilibrium(data) -> tuple[np.ndarray, list[str]]:
+    """The equilibrium matrix (free coordinates × bars) built here from the node coordinates."""
+    dim = data["dim"]
+    names = list(data["links"])
+    free = {name: k for k, name in enumerate(sorted(set(data["nodes"]) - set(data["fixed"])))}
+    out = np.zeros((dim * len(free), len(names)))
+    for c, bar in enumerate(names):
+        i, j = data["links"][bar]
+        u = np.subtract(data["nodes"][j], data["nodes"][i])
+        u = u / np.linalg.norm(u)
+        for node, sign in ((i, 1.0), (j, -1.0)):
+            if node in free:
+                out[dim * free[node]: dim * free[node] + dim, c] = sign * u
+    return out, names
+
+
+def _check_listed_stresses(data, a) -> np.ndarray:
+    """Count = deficit, each stress in equilibrium (independent computation), rank of the set = count."""
+    stresses = tuple(a.self_stresses)
+    assert len(stresses) == a.redundant_constraints
+    eq, names = _equilibrium(data)
+    s = _stress_matrix(stresses, names)
+    assert (np.abs(eq @ s).max(axis=0) <= 1e-9 * np.abs(s).max(axis=0)).all()
+    assert np.linalg.matrix_rank(s) == len(stresses)
+    # the closed form of a rigid framework: bars touching a free node, minus dim · free nodes
+    grounded = sum(1 for x, y in data["links"].values() if {x, y} <= set(data["fixed"]))
+    assert a.dof == 0 and len(stresses) == len(names) - grounded - eq.shape[0]
+    return s
+
+
+@pytest.mark.parametrize("cells", [150, 400])
+def test_local_stresses_of_a_braced_strip_stay_on_their_cell_whatever_its_length(cells):
+    """A strip of 2 × cells nodes with 25 cells braced twice: 25 stresses, each on the 6 bars of its
+    braced cell (a K4: elementary geometry), 5 where that cell's bottom bar joins the fixed nodes."""
+    data = bench.planar_truss(cells, 2, extra=25)
+    a = symkin.analyze(symkin.Mechanism.from_dict(data))
+    _check_listed_stresses(data, a)
+    assert a.self_stresses.is_local == [True] * 25
+    assert max(r.r for r in a.self_stresses) <= 6
+
+
+def test_local_stresses_of_a_grid_have_a_support_independent_of_its_size():
+    """Triangulated grids of 15 × 20 and 30 × 30 nodes (+ 20 braced cells): the stresses are local
+    (most: a wheel round an interior node is 12 bars, the patches mix two), their support bounded by
+    the same constant at both sizes; the few dependent rows without one within the patch limit keep
+    their fundamental stress.  The set is a basis (rank), in equilibrium, as many as the deficit."""
+    from symkin.numeric.sparse_rows import LOCAL_PATCH_ROWS
+
+    bound = {}
+    for nx, ny, extra in [(15, 20, 0), (25, 25, 20)]:
+        data = bench.planar_truss(nx, ny, extra=extra)
+        a = symkin.analyze(symkin.Mechanism.from_dict(data))
+        _check_listed_stresses(data, a)
+        flags = a.self_stresses.is_local
+        assert sum(flags) >= 0.9 * len(flags)
+        sizes = [r.r for r, local in zip(a.self_stresses, flags) if local]
+        bound[nx] = (max(sizes), float(np.percentile(sizes, 90)))
+    # 90 % of the local stresses on at most 19 bars (two wheels), at both sizes; all within a patch
+    assert bound[15][1] <= 19 and bound[25][1] <= 19
+    assert max(bound[15][0], bound[25][0]) <= LOCAL_PATCH_ROWS
+
+
+def test_local_stresses_are_unit_triangular_on_the_dependent_rows():
+    """Each listed stress has 1 on its own dependent row and 0 on the later ones (hence independent)."""
+    a = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5)))
+    st = a.self_stresses
+    tuple(st)
+    dependent = st._dependent
+    coords = np.zeros((len(st), dependent.size))
+    for i, (rows, coef) in enumerate(st._raw):
+        at = {r: c for r, c in zip(rows.tolist(), coef.tolist())}
+        coords[i] = [at.get(r, 0.0) for r in dependent.tolist()]
+    assert np.array_equal(np.diag(coords), np.ones(len(st)))
+    assert not np.triu(coords, 1).any()
+
+
+def test_local_stresses_are_the_same_in_mm_and_in_m():
+    m = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5)))
+    mm = symkin.analyze(symkin.Mechanism.from_dict(bench.planar_truss(15, 20, extra=5, spacing=1000.0)))
+    assert len(tuple(m.self_stresses)) == len(tuple(mm.self_stresses)) == 239
+    assert mm.self_stresses.is_local == m.self_stresses.is_local and sum(m.self_stresses.is_local) >= 200
+    for x, y in zip(m.self_stresses, mm.self_stresses):
+        assert [label for label, _ in x.coefficients] == [label for label, _ in y.coefficients]
+        assert np.allclose([v for _, v in x.coefficients], [v for _, v in y.coefficients], rtol=1e-8, atol=1e-10)
+
+
+def test_local_stresses_of_a_spatial_truss():
+    """A Freudenthal grid of 6 × 6 × 5 nodes: (bars − 2) − (3n − 9) stresses (closed form), listed,
+    mostly local, in equilibrium, independent; their span is the dense path's."""
+    data = bench.spatial_truss(6, 6, 5)
+    mech = symkin.Mechanism.from_dict(data)
+    a = symkin.analyze(mech)
+    assert a.motion.sparse is not None
+    s = _check_listed_stresses(data, a)
+    flags = a.self_stresses.is_local
+    assert sum(flags) >= 0.8 * len(flags)
+    assert np.median([r.r for r in a.self_stresses]) <= 150
+    d = classify(model_rows(mech), DEFAULT)
+    names = list(data["links"])
+    # the dense canonical (echelon) form rounds its entries at 1e-8 of its largest, here ~1e3
+    assert _span_distance(_stress_matrix(d.self_stresses, names), s) <= 1e-7
