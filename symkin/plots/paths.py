@@ -736,7 +736,9 @@ def path_figure(path: Path, unit: str = "deg"):
     plot_traces(path, ax=right, numbers_only=True)
     if three_d:
         right.set_box_aspect((1, 1, 1), zoom=_ZOOM_3D)
-    right.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=3.5, ncol=2, fontsize=FONT,
+    # under the axes, below the tick labels (a zoomed 3-D cube's reach further down)
+    right.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=6.0 if three_d else 3.5, ncol=2,
+                 fontsize=FONT,
                  frameon=False, handlelength=1.5, columnspacing=1.0)
     if rows:
         panels = [bottom.add_subplot(rows, _PANELS_PER_ROW, k + 1, projection="3d" if three_d else None)
