@@ -71,6 +71,16 @@ def _on_sigint(signum, frame):
         raise KeyboardInterrupt
 
 
+def _unraisable(hook):
+    """``sys.unraisablehook`` that passes over a KeyboardInterrupt: a Ctrl-C that arrived inside a
+    weakref callback (e.g. importlib's module-lock clean-up) cannot propagate; it is noted and
+    ends the command with 130, and is not printed as an ignored exception's traceback."""
+    def unraisable(u):
+        if not isinstance(u.exc_value, KeyboardInterrupt):
+            hook(u)
+    return unraisable
+
+
 def _interrupted() -> int:
     print("symkin: interrupted", file=sys.stderr)
     return 130
@@ -82,14 +92,16 @@ def main(argv: list[str] | None = None) -> int:
         previous = signal.signal(signal.SIGINT, _on_sigint)
     except ValueError:  # not the main thread: keep Python's handler
         previous = None
-    shown = warnings.formatwarning
+    shown, unraisable = warnings.formatwarning, sys.unraisablehook
     warnings.formatwarning = _one_line
+    sys.unraisablehook = _unraisable(unraisable)
     try:
         code = _main(argv)
     except KeyboardInterrupt:
         code = _interrupted()
     finally:
         warnings.formatwarning = shown
+        sys.unraisablehook = unraisable
         if previous is not None:
             # the program (argv None) has done its work and picked its exit code: a late
             # Ctrl-C no longer changes it; called from Python, the caller's handler comes back

@@ -80,13 +80,60 @@ def gough_stewart_total_degree():
 
 @pytest.fixture(autouse=True, scope="session")
 def _private_cache(tmp_path_factory):
-    """Compiled artefacts of the test session go to a temporary cache, not the user's."""
+    """Compiled artefacts of the test session go to a temporary cache, not the user's.
+
+    Run in parallel (pytest-xdist), the workers share one: the session's temporary folder
+    (the parent of each worker's) holds it, and symkin's cache writes are atomic and serialised
+    by a lock file (:mod:`symkin.numeric.codegen`), so a model compiled by one worker is loaded by
+    the other.
+    """
     import os
 
     old = os.environ.get("SYMKIN_CACHE")
-    os.environ["SYMKIN_CACHE"] = str(tmp_path_factory.mktemp("symkin-cache"))
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        shared = tmp_path_factory.getbasetemp().parent / "symkin-cache"
+        shared.mkdir(exist_ok=True)
+        os.environ["SYMKIN_CACHE"] = str(shared)
+    else:
+        os.environ["SYMKIN_CACHE"] = str(tmp_path_factory.mktemp("symkin-cache"))
     yield
     if old is None:
         os.environ.pop("SYMKIN_CACHE", None)
     else:
         os.environ["SYMKIN_CACHE"] = old
+
+
+# ---------------------------------------------------------------- parallel runs (pytest-xdist)
+#: fixtures (or function fixtures over a cache of this module) whose one computation several test
+#: modules read: their tests run on one worker, in one group named after the fixture
+SHARED_ACROSS_MODULES = {"gough_stewart_total_degree": "gough-stewart-total-degree",
+                         "paper_checks_once": "paper-checks"}
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """Group the tests that share an expensive computation, for ``--dist loadgroup`` (README, "Tests").
+
+    pytest-xdist computes a module- or session-scoped fixture once in each worker that runs a
+    test using it; so that it is computed once, the tests of a module that uses a module- or
+    class-scoped fixture form one group (the module's), and the tests that read a fixture of
+    :data:`SHARED_ACROSS_MODULES` form that fixture's group.  A test marked
+    ``xdist_group`` already keeps its mark.  (Runs before xdist's own hook, which puts the group
+    in the test's id; without xdist, the marks do nothing.)
+    """
+    for item in items:
+        if item.get_closest_marker("xdist_group") is not None:
+            continue
+        info = getattr(item, "_fixtureinfo", None)
+        if info is None:
+            continue
+        group = None
+        for name in info.names_closure:
+            if name in SHARED_ACROSS_MODULES:
+                group = SHARED_ACROSS_MODULES[name]
+                break
+            defs = info.name2fixturedefs.get(name) or ()
+            if defs and defs[-1].scope in ("module", "class", "package") and group is None:
+                group = item.nodeid.split("::", 1)[0]
+        if group is not None:
+            item.add_marker(pytest.mark.xdist_group(group))

@@ -7,6 +7,8 @@ from symkin.reproduce import discover
 from tests.conftest import EXAMPLES, shared_run_check
 
 SCRIPTS = discover(EXAMPLES)
+# in a parallel run, on the worker of the reproduce tests that read the same check results (conftest.py)
+pytestmark = pytest.mark.xdist_group("paper-checks")
 
 
 def test_there_are_examples():

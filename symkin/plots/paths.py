@@ -46,6 +46,7 @@ _CURVES = (  # indicator key, style key, legend label
     (str(Kind.DKP_OUTPUT), Kind.DKP_OUTPUT, "DKP-output test"),
 )
 _EVENT_KINDS = (Kind.IM, Kind.DKP_INPUT, Kind.DKP_OUTPUT, Kind.LIM)
+_ZOOM_3D = 1.25  # the 3-D node traces of path_figure: the cube's size in its axes (matplotlib's default: 1)
 _PANELS_PER_ROW = 3  # small multiples of save_path_figures: panels per row (one column wide)
 _LINESTYLE = {str(Kind.DKP_OUTPUT): (0, (5, 2)), str(Kind.BRANCH_POINT): ":"}  # dashed: visible where it overlaps DKP-input
 
@@ -262,55 +263,93 @@ def place_labels(ax, prefix: str = "event-label:", gap: float = 3.0) -> list:
     return labels
 
 
-#: where :func:`place_point_labels` tries a label around its point: directions (unit offsets), then rings
-_AROUND = ((1, 1), (1, -1), (-1, 1), (-1, -1), (1, 0), (-1, 0), (0, 1), (0, -1))
+#: where :func:`place_point_labels` tries a label around its point: sixteen directions, the four
+#: diagonals first, then the sides, then between them (unit vectors)
+_AROUND = tuple((math.cos(a), math.sin(a)) for a in np.radians(
+    [45, -45, 135, -135, 0, 180, 90, -90, 22.5, -22.5, 157.5, -157.5, 67.5, -67.5, 112.5, -112.5]))
+
+
+def _alignment(dx: float, dy: float) -> tuple[str, str]:
+    """The text alignment that puts a label's box on the side ``(dx, dy)`` of its anchor."""
+    ha = "left" if dx > 0.3 else ("right" if dx < -0.3 else "center")
+    va = "bottom" if dy > 0.3 else ("top" if dy < -0.3 else "center")
+    return ha, va
+
+
+def _project_3d_labels(ax, labels) -> None:
+    """Anchor each label with a 3-D point (attribute ``point_3d``) at that point's projection in the current view."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    m = ax.get_proj()
+    for t in labels:
+        p = getattr(t, "point_3d", None)
+        if p is not None:
+            x, y, _ = proj3d.proj_transform(*np.asarray(p, float), m)
+            t.xy = (float(x), float(y))
 
 
 def place_point_labels(ax, prefix: str = "event-label:", gap: float = 2.0, rings: int = 8) -> list:
     """Move the point labels of ``ax`` (annotations whose ``gid`` starts with ``prefix``) so no two overlap.
 
-    Each label, from left to right, takes the first place around its point — the eight
-    directions at growing distances (``rings``), then straight up, tier after tier — where its
-    box, as rendered, meets no label placed before (``gap`` points apart) and stays inside the
-    axes when it can.  The placement depends on the axes' size: :func:`path_figure` calls it
-    again once the layout is fixed.
+    Each label, from left to right, takes the nearest place to its point — sixteen directions
+    around it, at distances growing by a quarter of the label's height up to ``rings`` heights,
+    then straight up, tier after tier — where its box, as rendered, meets no label placed before
+    (``gap`` points apart) and stays inside the axes when it can.  On 3-D axes a label that
+    carries its 3-D point (attribute ``point_3d``, as :func:`plot_traces` writes them) is first
+    anchored at that point's projection in the axes' current view.  The placement depends on
+    the axes' size and view: :func:`path_figure` calls it again once the layout is fixed.
 
     Returns
     -------
     list of matplotlib.text.Annotation
         The labels, in the order placed.
     """
-    labels = sorted((t for t in ax.texts if (t.get_gid() or "").startswith(prefix) and hasattr(t, "xyann")),
-                    key=lambda t: tuple(t.xy))
+    labels = [t for t in ax.texts if (t.get_gid() or "").startswith(prefix) and hasattr(t, "xyann")]
     if not labels:
         return labels
     renderer = _renderer(ax)
     ax.get_xlim()  # the limits and the aspect as they will be drawn
     ax.apply_aspect()
+    if is_3d(ax):
+        _project_3d_labels(ax, labels)
+    labels.sort(key=lambda t: tuple(t.xy))
     px = renderer.points_to_pixels(1.0)
     frame = ax.get_window_extent(renderer)
     placed = []
     for t in labels:
-        size = t.get_fontsize()
-        candidates = [(dx * (3 + r * size), dy * (3 + r * size)) for r in range(rings) for dx, dy in _AROUND]
-        candidates += [(0.0, 3 + (rings + j) * size) for j in range(len(labels) + 1)]
+        # the label's box for each alignment at its anchor, once; a candidate's box is that one moved
+        # by its offset (an annotation's offset in points moves its box rigidly)
+        t.xyann = (0.0, 0.0)
+        boxes = {}
+        for dx, dy in _AROUND:
+            key = _alignment(dx, dy)
+            if key not in boxes:
+                t.set_horizontalalignment(key[0])
+                t.set_verticalalignment(key[1])
+                boxes[key] = t.get_window_extent(renderer)
+        height = max(b.height for b in boxes.values()) / px  # points
+        steps = int(rings * 4) + 1
+        candidates = [(d * dx, d * dy) for d in (1.0 + k * height / 4 for k in range(steps)) for dx, dy in _AROUND]
+        candidates += [(0.0, 1.0 + rings * height + j * (height + gap)) for j in range(len(labels) + 1)]
         choice = None
         for inside in (True, False):
             for dx, dy in candidates:
-                t.set_horizontalalignment("left" if dx > 0 else ("right" if dx < 0 else "center"))
-                t.set_verticalalignment("bottom" if dy > 0 else ("top" if dy < 0 else "center"))
-                t.xyann = (dx, dy)
-                box = t.get_window_extent(renderer).padded(gap * px / 2)
+                box = boxes[_alignment(dx, dy)].translated(dx * px, dy * px).padded(gap * px / 2)
                 if any(box.overlaps(b) for b in placed):
                     continue
                 if inside and not (frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0
                                    and box.y1 <= frame.y1):
                     continue
-                choice = box
+                choice = (dx, dy), box
                 break
             if choice is not None:
                 break
-        placed.append(choice if choice is not None else t.get_window_extent(renderer))
+        (dx, dy), box = choice if choice is not None else (candidates[0], None)
+        ha, va = _alignment(dx, dy)
+        t.set_horizontalalignment(ha)
+        t.set_verticalalignment(va)
+        t.xyann = (dx, dy)
+        placed.append(box if box is not None else t.get_window_extent(renderer))
     return labels
 
 
@@ -425,13 +464,13 @@ def plot_traces(path: Path, nodes=None, ax=None, *, show_mechanism: bool = True,
     else:
         ax.set_aspect("equal", adjustable="datalim")
     for k, text, p in pending:
-        if three_d:  # a 2-D annotation at the point's projection in this view (as matplotlib's 3-D examples do)
-            from mpl_toolkits.mplot3d import proj3d
-
-            p = proj3d.proj_transform(*p, ax.get_proj())[:2]
-        ax.annotate(text, p, xytext=(4, 4), textcoords="offset points", fontsize=FONT, zorder=6,
-                    gid=f"event-label:{k}",
-                    bbox=dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
+        # 3-D: a 2-D annotation at the point's projection in the view (as matplotlib's 3-D examples do);
+        # place_point_labels projects it again in the view as drawn (its point_3d)
+        ann = ax.annotate(text, tuple(p[:2]), xytext=(4, 4), textcoords="offset points", fontsize=FONT, zorder=6,
+                          gid=f"event-label:{k}",
+                          bbox=dict(boxstyle="round,pad=0.1", facecolor="white", edgecolor="none", alpha=0.8))
+        if three_d:
+            ann.point_3d = tuple(float(c) for c in p)
     ax.set_xlabel("x")
     ax.set_ylabel("y" if (three_d or mech.dim == 2) else "y (x-y projection)")
     if not ax.get_title():
@@ -677,7 +716,9 @@ def path_figure(path: Path, unit: str = "deg"):
     rows = -(-n_ev // _PANELS_PER_ROW) if n_ev else 0
     three_d = path.mechanism.dim == 3
     io = _output(path) is not None
-    heights = [3.3] + ([2.9] if io else []) + [3.6]  # inches: each top panel with its labels and legend
+    # inches: each top panel with its labels and legend; the 3-D traces (a square axes whose cube
+    # fills only part of it) get more height and a zoomed cube, so they span the column
+    heights = [3.3] + ([2.9] if io else []) + [4.6 if three_d else 3.6]
     events_h = (1.8 * rows + 0.35) if rows else 0.0
     fig = Figure(figsize=(COLUMN_WIDTH, sum(heights) + events_h + 0.55), layout="constrained")
     FigureCanvasAgg(fig)
@@ -693,7 +734,11 @@ def path_figure(path: Path, unit: str = "deg"):
     right.set_title("Node traces", fontsize=FONT)
     plot_indicators(path, ax=left, unit=unit, numbers_only=True)
     plot_traces(path, ax=right, numbers_only=True)
-    right.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=3.5, ncol=2, fontsize=FONT,
+    if three_d:
+        right.set_box_aspect((1, 1, 1), zoom=_ZOOM_3D)
+    # under the axes, below the tick labels (a zoomed 3-D cube's reach further down)
+    right.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=6.0 if three_d else 3.5, ncol=2,
+                 fontsize=FONT,
                  frameon=False, handlelength=1.5, columnspacing=1.0)
     if rows:
         panels = [bottom.add_subplot(rows, _PANELS_PER_ROW, k + 1, projection="3d" if three_d else None)

@@ -154,10 +154,14 @@ def determinant(rows: list[list], gens: list, domain=RR):
     >>> determinant([[x, 1], [y, x]], [x, y])
     1.0*x**2 - 1.0*y
     """
+    return _determinant_poly(rows, gens, domain).as_expr()
+
+
+def _determinant_poly(rows: list[list], gens: list, domain=RR):
+    """:func:`determinant` as an element of sympy's sparse polynomial ring over ``gens`` (expanded, no zero terms)."""
     n = len(rows)
-    r, *_ = ring([str(g) for g in gens], domain)
-    polys = [[r(0) if e == 0 else r.from_expr(sp.sympify(e).xreplace({g: sp.Symbol(str(g)) for g in gens}))
-              for e in row] for row in rows]
+    r, *_ = ring(list(gens), domain)  # the generators themselves (no renaming of the entries or of the result)
+    polys = [[r(0) if e == 0 else r.from_expr(sp.sympify(e)) for e in row] for row in rows]
     memo: dict[int, object] = {}
 
     def rec(k: int, used: int):
@@ -174,7 +178,7 @@ def determinant(rows: list[list], gens: list, domain=RR):
         memo[used] = total
         return total
 
-    return rec(0, 0).as_expr().xreplace({sp.Symbol(str(g)): g for g in gens})
+    return rec(0, 0)
 
 
 def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | None = None,
@@ -210,63 +214,116 @@ def dkp_system(mech: Mechanism, c: InputCoordinate, tol: float | Tolerances | No
     sub = {s: e for s, e in u_of_v.items() if s not in v}
     row_v = [sp.expand(sum((float(n[i, j]) * row_u[i].xreplace(sub) for i in range(len(row_u)) if n[i, j] != 0),
                            sp.Integer(0))) for j in range(len(v))]
-    jac = sp.Matrix(eqs).jacobian(v).tolist() if eqs else []
-    factors = []
+    jac = [list(row) for row in _jacobian(tuple(eqs), tuple(v))] if eqs else []
+    factors, terms = [], []
     for block in block_triangular(jac + [row_v]):
         rows = [[(jac + [row_v])[i][j] for j in block[1]] for i in block[0]]
-        det = sp.expand(determinant(rows, v))
-        if det == 0:
+        det = _determinant_poly(rows, v)  # expanded: its expression needs no sp.expand
+        if not det:
             raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is identically zero on the "
                               "configuration space (a structurally singular velocity equation)")
-        if det.free_symbols:
-            factors.append(det)
+        if not det.is_ground:
+            factors.append(det.as_expr())
+            terms.append((np.array(list(det.itermonoms()), float), np.array([float(k) for k in det.itercoeffs()])))
     # a block that is a constant on the curve (a crank's own 2|V1 − P2|², a rocker's) never vanishes there:
     # its square system has no real solution, only paths to track
-    constant = tuple(f_ for f_ in factors if _constant_on_curve(f_, eqs, v, closure))
+    constant = tuple(f_ for f_, t_ in zip(factors, terms) if _constant_on_curve(f_, eqs, v, closure, t_))
     if factors and len(constant) == len(factors):
         raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is constant on the configuration "
                           "space (the parameter is never singular): no square system")
     if not factors:
         raise SymkinError(f"{mech.name}: the DKP test function of {c.label} is constant on the configuration "
                           "space (the parameter is never singular): no square system")
-    degree = sum(int(sp.Poly(f, *v).total_degree()) for f in factors)
+    degree = sum(int(e.sum(axis=1).max()) for e, _ in terms)
     return DkpSystem(closure, c, tuple(eqs), tuple(factors), tuple(v), degree, squared, constant)
 
 
-def _constant_on_curve(factor, eqs: list, v: list, closure: PolynomialSystem, points: int = 4) -> bool:
+def _jacobian(eqs: tuple, v: tuple) -> tuple:
+    """``∂eqs/∂v`` row by row, memoised (the DKP systems of one closure share it: input, output, every LIM)."""
+    key = (eqs, v)
+    if key not in _JACOBIANS:
+        if len(_JACOBIANS) >= 8:
+            _JACOBIANS.pop(next(iter(_JACOBIANS)))
+        _JACOBIANS[key] = tuple(tuple(row) for row in sp.Matrix(eqs).jacobian(v).tolist())
+    return _JACOBIANS[key]
+
+
+_JACOBIANS: dict = {}
+_CURVES: dict = {}
+
+
+def _curve_functions(eqs: tuple, v: tuple):
+    """The closure's residuals and Jacobian as numpy functions of ``v``, memoised like :func:`_jacobian`."""
+    key = (eqs, v)
+    if key not in _CURVES:
+        if len(_CURVES) >= 8:
+            _CURVES.pop(next(iter(_CURVES)))
+        r = sp.lambdify([list(v)], list(eqs), "numpy")
+        jac = sp.lambdify([list(v)], sp.Matrix(_jacobian(eqs, v)), "numpy")
+        _CURVES[key] = (lambda z: np.array(r(z), float).ravel(),
+                        lambda z: np.array(jac(z), float).reshape(len(eqs), len(v)))
+    return _CURVES[key]
+
+
+def _terms(factor, v: list):
+    """``(exponents, coefficients)`` of an expanded polynomial ``factor`` in ``v`` (arrays), or ``None``.
+
+    Read from its terms (a sum of number × powers of ``v``); ``None`` when a term is anything else.
+    """
+    index = {s: k for k, s in enumerate(v)}
+    exps, coeffs = [], []
+    for term in sp.Add.make_args(factor):
+        c, m = term.as_coeff_Mul()
+        if not c.is_Number:
+            return None
+        e = [0] * len(v)
+        for b, p in m.as_powers_dict().items():
+            if b == 1:
+                continue
+            if b not in index or not (p.is_Integer and p >= 0):
+                return None
+            e[index[b]] += int(p)
+        exps.append(e)
+        coeffs.append(float(c))
+    return np.array(exps, float).reshape(len(exps), len(v)), np.array(coeffs, float)
+
+
+def _constant_on_curve(factor, eqs: list, v: list, closure: PolynomialSystem, terms=None, points: int = 4) -> bool:
     """Whether ``factor`` takes one value at the model's configuration and at ``points`` other curve points."""
     mech = closure.mechanism
     x = np.concatenate([np.asarray(dict(mech.nodes)[n], float) for n in mech.free_nodes])
     u0 = (x - np.tile(closure.center, len(mech.free_nodes))) / closure.scale
     index = {s_: k for k, s_ in enumerate(closure.unknowns)}
-    return constant_on_curve(factor, eqs, v, np.array([u0[index[s_]] for s_ in v]), 1.0, points)
+    return constant_on_curve(factor, eqs, v, np.array([u0[index[s_]] for s_ in v]), 1.0, points, terms=terms)
 
 
-def constant_on_curve(factor, eqs: list, v: list, v0: np.ndarray, scale: float = 1.0, points: int = 4) -> bool:
+def constant_on_curve(factor, eqs: list, v: list, v0: np.ndarray, scale: float = 1.0, points: int = 4,
+                      terms=None) -> bool:
     """Whether the polynomial ``factor`` is one number on the curve ``eqs = 0`` near ``v0`` (a curve point).
 
     It is evaluated at ``v0`` and at ``points`` other curve points: Gauss–Newton projections onto
     ``eqs = 0`` of random perturbations (0.2 ``scale``, fixed seed) of ``v0``; a factor that varies
     on the curve differs there (relative 1e-9).  Points where the projection fails are not used;
-    fewer than two usable points: not constant (the factor is kept).
+    fewer than two usable points: not constant (the factor is kept).  ``terms``, the factor's
+    ``(exponents, coefficients)`` when the caller has them, spares reading them from ``factor``.
     """
     if not eqs:
         return False
-    poly = sp.Poly(factor, *v)
-    exps = np.array(poly.monoms(), float)
-    coeffs = np.array([float(c_) for c_ in poly.coeffs()])
+    if terms is None:
+        terms = _terms(factor, list(v))
+    if terms is None:  # not a sum of number × powers: sympy reads it
+        poly = sp.Poly(factor, *v)
+        terms = np.array(poly.monoms(), float), np.array([float(c_) for c_ in poly.coeffs()])
+    exps, coeffs = terms
 
     def f(y):  # the factor's terms at once (a degree-6 factor has thousands: lambdify is slow to build)
         return float(coeffs @ np.prod(np.power(y[None, :], exps), axis=1))
 
-    r = sp.lambdify([v], list(eqs), "numpy")
-    jac = sp.lambdify([v], sp.Matrix(eqs).jacobian(v), "numpy")
+    r, jac = _curve_functions(tuple(eqs), tuple(v))
     closes = CURVE_POINT * max(1.0, scale * scale)
 
     def project(y):
-        c = gauss_newton(lambda z: (np.array(r(z), float).ravel(),
-                                    np.array(jac(z), float).reshape(len(eqs), len(v))),
-                         y, tol=closes, floor=closes, max_iterations=40, norm="max")
+        c = gauss_newton(lambda z: (r(z), jac(z)), y, tol=closes, floor=closes, max_iterations=40, norm="max")
         return c.z if c.converged else None
 
     base = project(np.asarray(v0, float).copy())
