@@ -352,8 +352,10 @@ def test_spatial_moving_line_slider_redundant_cross_product_component():
     assert_same_configurations(result, expected, ["C", "D"])
     # the line is two equations (the cross product's components along the line's normals at the model);
     # where the cross product turns along the line itself they hold off the line: such endpoints are
-    # rejected by the check on the original equations, never counted (how many Bertini reaches varies)
-    assert result.complex == 0 and result.rejected <= 2
+    # rejected by the check on the original equations, never counted. How many endpoints Bertini's
+    # total-degree solve leaves there varies from run to run (0 to 4 seen in six runs of 24 paths), so
+    # the count itself is not asserted: what holds is that none of them is counted as a solution
+    assert result.complex == 0, f"{result.complex} complex solutions counted ({result.rejected} rejected)"
 
 
 def test_a_failed_bertini_solve_is_retried_then_reported(monkeypatch):
