@@ -327,17 +327,8 @@ def test_a_spatial_truss_whose_ldlt_choice_fails_is_listed_by_partial_pivoting()
     stresses = tuple(a.self_stresses)
     assert a.self_stresses.choice == "pivoted"
     assert a.redundant_constraints == len(stresses) == (bars - 2) - (3 * n - 9)
-    names = list(data["links"])
+    equilibrium, names = _equilibrium(data)
     s = _stress_matrix(stresses, names)
-    free = {name: k for k, name in enumerate(sorted(set(data["nodes"]) - set(data["fixed"])))}
-    equilibrium = np.zeros((3 * len(free), len(names)))
-    for c, bar in enumerate(names):
-        i, j = data["links"][bar]
-        u = np.subtract(data["nodes"][j], data["nodes"][i])
-        u = u / np.linalg.norm(u)
-        for node, sign in ((i, 1.0), (j, -1.0)):
-            if node in free:
-                equilibrium[3 * free[node]: 3 * free[node] + 3, c] = sign * u
     assert (np.abs(equilibrium @ s).max(axis=0) <= 1e-9 * np.abs(s).max(axis=0)).all()
     assert np.linalg.matrix_rank(s) == len(stresses)
 

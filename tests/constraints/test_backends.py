@@ -72,20 +72,28 @@ def _dense(row, dim: int, ncoord: int) -> np.ndarray:
     return out
 
 
+def _sx_coordinates(dim: int, n: int):
+    """All node coordinates as one SX vector, and per node the tuple of its symbols."""
+    sym = ca.SX.sym("x", dim * n)
+    return sym, [tuple(sym[dim * k + a] for a in range(dim)) for k in range(n)]
+
+
+def _sx_row(row, dim: int, n: int):
+    """A :class:`Row` of SX terms as one SX column over all coordinates."""
+    vec = [ca.SX(0)] * (dim * n)
+    for k, coef, v in row.terms:
+        for a in range(dim):
+            vec[dim * k + a] = vec[dim * k + a] + coef * v[a] / row.scale
+    return ca.vertcat(*vec)
+
+
 def _casadi_values(con, mech, x: np.ndarray):
     """Rows and equation residuals of ``con`` built in SX over all coordinates, evaluated at ``x``."""
     dim, n = mech.dim, len(mech.nodes)
-    sym = ca.SX.sym("x", dim * n)
-    X = [tuple(sym[dim * k + a] for a in range(dim)) for k in range(n)]
+    sym, X = _sx_coordinates(dim, n)
     X0 = [tuple(map(float, r)) for r in x]
     alg = Casadi()
-    rows = []
-    for r in con.rows(alg, X, X0):
-        vec = [ca.SX(0)] * (dim * n)
-        for k, coef, v in r.terms:
-            for a in range(dim):
-                vec[dim * k + a] = vec[dim * k + a] + coef * v[a] / r.scale
-        rows.append(ca.vertcat(*vec))
+    rows = [_sx_row(r, dim, n) for r in con.rows(alg, X, X0)]
     eqs = [e.numerator / e.denominator for e in con.equations(alg, X, X0)]
     f = ca.Function("f", [sym], [ca.horzcat(*rows).T if rows else ca.SX(0, dim * n),
                                  ca.vertcat(*eqs) if eqs else ca.SX(0, 1)])

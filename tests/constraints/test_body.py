@@ -26,8 +26,7 @@ from symkin.constraints.algebra import FLOATS, Casadi, Sympy
 from symkin.numeric.casadi_model import build
 from symkin.numeric.geometric_matrix import constraint_rows
 from symkin.symbolic.rows import RowBuilder
-
-from tests.constraints.test_backends import _dense
+from tests.constraints.test_backends import _dense, _sx_coordinates, _sx_row
 
 
 def _planar_rod():
@@ -78,16 +77,9 @@ def _gram(rows, dim: int, n: int) -> np.ndarray:
 def _casadi(con, mech, x: np.ndarray, x_model: np.ndarray):
     """``Σ a aᵀ`` of the rows and the closure residuals of ``con`` in SX, decided at ``x_model``, evaluated at ``x``."""
     dim, n = mech.dim, len(mech.nodes)
-    sym = ca.SX.sym("x", dim * n)
-    X = [tuple(sym[dim * k + a] for a in range(dim)) for k in range(n)]
+    sym, X = _sx_coordinates(dim, n)
     X0 = [tuple(map(float, r)) for r in x_model]
-    rows = []
-    for r in con.rows(Casadi(), X, X0):
-        vec = [ca.SX(0)] * (dim * n)
-        for k, coef, v in r.terms:
-            for a in range(dim):
-                vec[dim * k + a] = vec[dim * k + a] + coef * v[a] / r.scale
-        rows.append(ca.vertcat(*vec))
+    rows = [_sx_row(r, dim, n) for r in con.rows(Casadi(), X, X0)]
     eqs = [e.numerator / e.denominator for e in con.equations(Casadi(), X, X0)]
     j, phi = ca.Function("f", [sym], [ca.horzcat(*rows).T, ca.vertcat(*eqs)])(x.ravel())
     j = np.array(j)

@@ -16,8 +16,13 @@ import sympy as sp
 from symkin.constraints import SliderMovingLine, slider_constraints
 from symkin.constraints.algebra import FLOATS, Casadi, Sympy
 from symkin.errors import SymkinError
-
-from tests.constraints.test_backends import MODELS, _dense, _random_configurations
+from tests.constraints.test_backends import (
+    MODELS,
+    _dense,
+    _random_configurations,
+    _sx_coordinates,
+    _sx_row,
+)
 
 
 def _sliders(mech):
@@ -26,15 +31,9 @@ def _sliders(mech):
 
 def _casadi_rows(con, mech, x):
     dim, n = mech.dim, len(mech.nodes)
-    sym = ca.SX.sym("x", dim * n)
-    X = [tuple(sym[dim * k + a] for a in range(dim)) for k in range(n)]
-    out = []
-    for r in con.rate_rows(Casadi(), X, X):
-        vec = [ca.SX(0)] * (dim * n)
-        for k, coef, v in r.terms:
-            for a in range(dim):
-                vec[dim * k + a] = vec[dim * k + a] + coef * v[a] / r.scale
-        out.append(np.array(ca.Function("f", [sym], [ca.vertcat(*vec)])(x.ravel())).ravel())
+    sym, X = _sx_coordinates(dim, n)
+    out = [np.array(ca.Function("f", [sym], [_sx_row(r, dim, n)])(x.ravel())).ravel()
+           for r in con.rate_rows(Casadi(), X, X)]
     return np.array(out)
 
 
