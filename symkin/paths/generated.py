@@ -131,12 +131,14 @@ def _build_function(curve) -> ca.Function | None:
 
 
 def _key(curve, compiler: str, flags) -> str:
-    """The corrector's cache key (:func:`symkin.numeric.codegen.artefact_key`)."""
-    from symkin.paths import system
+    """The corrector's cache key (:func:`symkin.numeric.codegen.artefact_key`).
 
+    Keyed also by the source of ``paths/system.py`` (the curve problem it is generated from), named by its
+    path: importing that module here would close an import circle (it imports this one).
+    """
     parts = [curve.mech.content_hash(), curve.drive.label, *(c.label for c in curve.held),
              *(repr(v) for v in curve.held_values), "corrector-v2"]
-    return artefact_key(parts, compiler, flags, sources=(Path(__file__), Path(system.__file__)))
+    return artefact_key(parts, compiler, flags, sources=(Path(__file__), Path(__file__).with_name("system.py")))
 
 
 def generated_corrector(curve, compile: bool = True) -> GeneratedCorrector | None:
