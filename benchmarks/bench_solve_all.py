@@ -139,7 +139,7 @@ def bench_parameter(repeat: int) -> None:
 
     os.environ["SYMKIN_CACHE"] = tempfile.mkdtemp(prefix="symkin-bench-")
     m3, v3 = rpr_model()
-    gs = read_model(ROOT / "tests" / "solutions" / "models" / "gough_stewart_66.toml")
+    gs = read_model(ROOT / "examples" / "gough_stewart_66.toml")
     cases = [("3-RPR forward (6)", m3, v3, "rad", 0.3),
              ("3-RRR inverse (8)", catalogue.get("rrr_3"),
               {"velocity:C1.x": 0.05, "velocity:C1.y": -0.05, "rotation:platform": 5}, "deg", 0.01),
@@ -196,7 +196,7 @@ def bench_query_path(repeat: int) -> None:
     env = dict(os.environ, SYMKIN_CACHE=tempfile.mkdtemp(prefix="symkin-bench-query-"),
                PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     os.environ["SYMKIN_CACHE"] = env["SYMKIN_CACHE"]
-    path = ROOT / "tests" / "solutions" / "models" / "gough_stewart_66.toml"
+    path = ROOT / "examples" / "gough_stewart_66.toml"
     gs = read_model(path)
     t = time.perf_counter()
     solve_all(gs, {f"slide:s{k}": 0.0 for k in range(1, 7)}, method="parameter")

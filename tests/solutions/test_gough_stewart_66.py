@@ -21,7 +21,7 @@ from symkin.model.model_file import read_model
 from symkin.solutions import solve_all
 
 HERE = Path(__file__).resolve().parent
-MODEL = HERE / "models" / "gough_stewart_66.toml"
+MODEL = HERE.parents[1] / "examples" / "gough_stewart_66.toml"
 #: the leg changes of the queries (model units of the m model)
 QUERIES = ({f"slide:s{k}": 0.0 for k in range(1, 7)},
            {f"slide:s{k}": v for k, v in zip(range(1, 7), (0.08, -0.05, 0.03, 0.1, -0.07, 0.02))})

@@ -22,7 +22,7 @@ from symkin.solutions.system import original_equations
 from symkin.tolerances import Tolerances
 
 solve_all_module = importlib.import_module("symkin.solutions.solve_all")
-GS66 = Path(__file__).resolve().parent / "models" / "gough_stewart_66.toml"
+GS66 = Path(__file__).resolve().parents[2] / "examples" / "gough_stewart_66.toml"
 
 
 @pytest.mark.parametrize("mech, values, unit", [

@@ -26,7 +26,7 @@ from symkin.kinds import Kind
 from symkin.symbolic.loci import implicit_loci
 
 ROOT = Path(__file__).resolve().parents[2]
-GENERAL = ROOT / "tests/solutions/models/gough_stewart_66.toml"
+GENERAL = ROOT / "examples/gough_stewart_66.toml"
 PLANAR = ROOT / "tests/workspace/models/gough_stewart.toml"
 HOLDS = ("velocity:O.z", "rotation:platform[x]", "rotation:platform[y]", "rotation:platform[z]")
 X, Y = sp.symbols("x_O y_O", real=True)
