@@ -9,10 +9,10 @@ The rows are those of :mod:`symkin.numeric.geometric_matrix`, built by its own f
   converted);
 * any other rigid body of k nodes gives **O(k) rows** instead of the k(k − 1)/2 pair rows
   of the paper's form: the pair rows of a frame of ``h + 1`` affinely independent nodes
-  (``geometric_matrix.affine_frame``, ``h`` the dimension of the body's hull) and, for every
+  (``constraints.body.affine_frame``, ``h`` the dimension of the body's hull) and, for every
   other node m, the ``dim`` rows ``ẋ_m − Σ c_k ẋ_k = 0`` with ``c`` the affine coordinates of
   m on the frame (a rigid velocity field is affine, so this is exact; the same affine
-  coordinates as the rigidity rows of ``geometric_matrix._body_extra_rows``).  These rows
+  coordinates as the rigidity rows of ``constraints.body.Body``).  These rows
   are independent (each non-frame node's rows have the identity on its own coordinates),
   ``h(h + 1)/2 + dim·(k − h − 1)`` of them: ``2k − 3`` for a planar body, ``3k − 6`` for a
   spatial body spanning space or a plane, ``3k − 5`` for a rod in space — the rank of the
@@ -36,8 +36,9 @@ import scipy.sparse as sps
 
 from symkin.errors import ModelError, Problem
 from symkin.model.mechanism import AXES, Mechanism
-from symkin.numeric.geometric_matrix import _slider_rows, _unit_vectors, affine_frame
-from symkin.numeric.linalg import affine_hull
+from symkin.constraints.body import affine_frame
+from symkin.numeric.geometric_matrix import _slider_rows, _unit_vectors
+from symkin.numeric.linalg import affine_hull, left_null_space
 from symkin.tolerances import DEFAULT, Tolerances
 
 __all__ = ["SparseRows", "sparse_constraint_rows", "pairwise_row_count", "shared_body_pairs",
@@ -221,7 +222,7 @@ def _affine_weights(body: np.ndarray, frame: list[int], others: list[int]) -> np
     """Affine coordinates (len(others), len(frame)) of the ``others`` nodes of a body on its ``frame``.
 
     Row m holds the weights on ``frame[0], frame[1], …`` (they sum to 1); least squares on
-    the frame's edges, as ``geometric_matrix._body_extra_rows`` computes them.
+    the frame's edges, as ``constraints.body.Body`` computes them (here for all nodes at once).
     """
     base = body[frame[0]]
     edges = np.array([body[k] - base for k in frame[1:]]).T.reshape(body.shape[1], len(frame) - 1)
@@ -395,8 +396,7 @@ class LocalStresses:
 
     def _on(self, patch: np.ndarray, cols: np.ndarray, d: int):
         block = self._csr[patch][:, cols].toarray()
-        u, s, _ = np.linalg.svd(block, full_matrices=True)
-        null = u[:, int(np.count_nonzero(s > self._threshold)):]
+        null = left_null_space(block, self._threshold)
         if not null.shape[1]:
             return None
         at = int(np.searchsorted(patch, d))
