@@ -19,6 +19,10 @@ from symkin.errors import ModelError, ModelFileError, NotConvergedError, SymkinE
 from symkin.model.mechanism import Mechanism, Parameter, Slider
 from symkin.model.model_file import read_model, write_model
 
+# discovery of the pair kinds: symkin.constraints imports every module of its package, each
+# registering its kind in symkin.model.pairs, before any model is parsed (NumPy-free)
+importlib.import_module("symkin.constraints")
+
 #: names imported on first use (scipy and CasADi load with them, not with ``import symkin``,
 #: so that ``symkin --version`` and ``symkin --help`` are fast): name → defining module
 _LAZY = {

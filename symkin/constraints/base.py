@@ -1,7 +1,7 @@
 """What a constraint definition is: rows and equations over an algebra.
 
-Every kind of constraint (a bar, a slider on a line, a helical pair, ...) is one small
-class in its own module of :mod:`symkin.constraints`.  It states once
+Every kind of constraint (a bar, a slider on a line, a pair with rows of its own, ...) is
+one small class in its own module of :mod:`symkin.constraints`.  It states once
 
 * its **velocity rows** (the paper's dimensionless rows ``a`` over the nodal velocity
   components, eqs. 1-2, A3-A4): :meth:`Constraint.rows` returns :class:`Row` objects,
@@ -61,12 +61,16 @@ class Constraint:
         The element whose geometric matrix the rows make (paper eqs. 1-2).
     polynomial : bool
         Whether the numerators of :meth:`equations` are polynomials of the coordinates.
+    why_not_polynomial : str
+        What its position equation does, for the message of a polynomial backend that
+        refuses it (:func:`symkin.constraints.polynomial_constraints`).
     where : str
         The model key to name when a backend refuses the constraint (a joint, a slider).
     """
 
     kind = "base"
     polynomial = True
+    why_not_polynomial = "states a position equation"
     owner = ""
     element = ""
     where = ""

@@ -39,15 +39,19 @@ keeps the three equal (1e-12, random configurations, mm and m).
 """
 from __future__ import annotations
 
-from typing import NamedTuple
-
-import numpy as np
+from typing import TYPE_CHECKING, NamedTuple
 
 from symkin.constraints.algebra import cross, dot, perp, sub
 from symkin.constraints.base import Constraint, Equation, Row
 from symkin.tolerances import DEFAULT
 
+if TYPE_CHECKING:
+    import numpy as np
+
 __all__ = ["Body", "Hull", "affine_hull", "affine_frame"]
+
+# NumPy is imported where it is used, not with the module: ``import symkin`` imports every
+# constraint module (the pair kinds' discovery) and stays free of NumPy.
 
 
 def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.ndarray]:
@@ -56,6 +60,8 @@ def affine_hull(points: np.ndarray, tol: float) -> tuple[int, np.ndarray, np.nda
     Directions (h, d) and normals (d-h, d) are orthonormal rows; ``tol`` is relative to
     the spread of the points.
     """
+    import numpy as np
+
     centred = points - points.mean(axis=0)
     _, s, vt = np.linalg.svd(centred, full_matrices=True)
     scale = s[0] if s.size and s[0] > 0 else 1.0
@@ -69,6 +75,8 @@ def affine_frame(pts: np.ndarray, h: int) -> list[int]:
     Near-ties (within a relative 1e-9) go to the lowest index, so that a symmetric body gets
     the same frame at neighbouring configurations instead of one decided by rounding.
     """
+    import numpy as np
+
     frame = [0]
     for _ in range(h):
         base = pts[frame[0]]
@@ -115,6 +123,8 @@ class Body(Constraint):
     def hull(self, X, tol: float = DEFAULT.geometry) -> Hull | None:
         """The :class:`Hull` of the body's nodes at positions ``X``, or None when they span the space
         (or are too few to need a row: ``k <= h + 1``)."""
+        import numpy as np
+
         pts = np.array([X[k] for k in self.idx], dtype=float)
         h, _, normals = affine_hull(pts, tol)
         if h == pts.shape[1] or len(self.idx) <= h + 1:
@@ -200,6 +210,8 @@ class Body(Constraint):
         normals = _smooth_normals(alg, edges)
         if len(normals) == 1:  # the core's sign at the model
             model = _smooth_normals(alg, [sub(X0[k], X0[f[0]]) for k in f[1:]])[0][0]
+            import numpy as np
+
             if float(np.dot(np.array(model, dtype=float), hull.normals[0])) < 0:
                 normals = [(tuple(-c for c in normals[0][0]), normals[0][1])]
         return normals
@@ -209,6 +221,8 @@ class Body(Constraint):
         d = sub(X[m], X[f[0]])
         h = len(edges)
         if alg.per_configuration:  # least squares, as the core always did
+            import numpy as np
+
             coef, *_ = np.linalg.lstsq(np.array(edges, dtype=float).T, np.array(d, dtype=float), rcond=None)
             return alg.const(1), tuple(coef), coef.sum()
         if alg.exact:  # polynomial: over l² (a rod) or |e1 × e2|² (Cramer)

@@ -1,10 +1,20 @@
 """The helical pair H: a cylindrical pair whose slide is tied to its rotation, ``s = p·θ``.
 
-A joint ``H1`` of pitch ``p`` (advance per radian, model units) between a guide and a
-runner compiles (:mod:`symkin.model.joints`) to a cylindrical pair C — the runner's nodes
-``H1`` and ``H1.end`` on the guide's axis line (sliders) — plus an arm node ``H1.arm`` of
-the runner off the axis and, for a moving guide, an arm node ``H1.guide`` of the guide;
-this constraint adds the one row the paper's node sharing cannot express.
+This module is the whole of H (issue 16: a pair kind is one module, registered in
+:mod:`symkin.model.pairs` and found by :mod:`symkin.constraints`):
+
+* the joint kind ``H`` (spatial; ``axis`` and ``pitch``, the advance per radian in model
+  length units, negative for a left-handed screw; its rate ``joint:H1`` is the relative
+  rotation) and its compile step :func:`compile_helical`;
+* the record :class:`HelicalPair` (the model dictionary's ``helicals`` tables: parse,
+  ``to_dict``, ``moved``);
+* the constraint :class:`Helical`, its row and position equation in every algebra.
+
+A joint ``H1`` of pitch ``p`` between a guide and a runner compiles to a cylindrical pair
+C — the runner's nodes ``H1`` and ``H1.end`` on the guide's axis line (sliders) — plus an
+arm node ``H1.arm`` of the runner off the axis and, for a moving guide, an arm node
+``H1.guide`` of the guide, and a :class:`HelicalPair` record; its constraint adds the one
+row the paper's node sharing cannot express.
 
 Row (dimensionless)::
 
@@ -36,10 +46,115 @@ model with an H: :func:`symkin.constraints.polynomial_constraints`.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
+
 from symkin.constraints.algebra import FLOATS, cross, dot, sub
 from symkin.constraints.base import Constraint, Equation, Row
+from symkin.model.joints import GROUND, offset, unit_normal
+from symkin.model.pairs import ExtraConstraint, JointKey, JointKind, register_extra, register_joint
 
-__all__ = ["Helical"]
+__all__ = ["Helical", "HelicalPair", "compile_helical"]
+
+
+@register_extra
+@dataclass(frozen=True)
+class HelicalPair(ExtraConstraint):
+    """The screw constraint of a helical pair H (a record of the model dictionary's ``helicals``).
+
+    The runner's node ``node`` on the axis and its arm node ``arm`` off the axis turn and
+    slide together: slide = ``pitch`` × relative rotation (``pitch`` in model units per
+    radian).  The guide is a link, with the nodes ``line = (base, tip)`` on the axis and
+    the arm node ``guide_arm``, or ground, with the fixed axis ``point`` + ``direction``.
+    The cylindrical pair under it is made of sliders; :class:`Helical` states the row.
+    """
+
+    key = "helicals"
+    keys = ("id", "node", "arm", "pitch", "line", "link", "guide_arm", "point", "direction")
+
+    id: str
+    node: str
+    arm: str
+    pitch: float
+    line: tuple[str, str] | None = None
+    link: str | None = None
+    guide_arm: str | None = None
+    point: tuple[float, ...] | None = None
+    direction: tuple[float, ...] | None = None
+
+    @classmethod
+    def parse(cls, item, where, ctx) -> "HelicalPair | None":
+        if ctx.dim != 3:
+            ctx.problem(where, "a helical pair is spatial (dim = 3)")
+            return None
+        names = [item.get("node"), item.get("arm")] + list(item.get("line") or []) + \
+            ([item["guide_arm"]] if "guide_arm" in item else [])
+        bad = [n for n in names if not isinstance(n, str) or n not in ctx.nodes]
+        pitch = item.get("pitch")
+        if bad or not isinstance(item.get("id"), str) or not ctx.number(pitch):
+            ctx.problem(where, f"needs id, pitch (a number) and nodes of the model (unknown: {ctx.short(bad)})")
+            return None
+        moving = "line" in item
+        if moving and (item.get("link") not in ctx.links or "guide_arm" not in item or len(item["line"]) != 2):
+            ctx.problem(where, "a moving guide needs line (two nodes), link and guide_arm")
+            return None
+        point = None if moving else ctx.vector(item.get("point"), where, "point")
+        direction = None if moving else ctx.direction(item.get("direction"), where, "direction")
+        if not moving and (point is None or direction is None):
+            return None
+        return cls(id=item["id"], node=item["node"], arm=item["arm"], pitch=float(pitch),
+                   line=tuple(item["line"]) if moving else None, link=item.get("link"),
+                   guide_arm=item.get("guide_arm"), point=point, direction=direction)
+
+    def to_dict(self) -> dict:
+        out: dict = {"id": self.id, "node": self.node, "arm": self.arm, "pitch": self.pitch}
+        for key in ("line", "link", "guide_arm", "point", "direction"):
+            value = getattr(self, key)
+            if value is not None:
+                out[key] = list(value) if isinstance(value, tuple) else value
+        return out
+
+    def moved(self, turn, place, scale: float) -> "HelicalPair":
+        """The pitch is a length; a fixed axis moves with the nodes."""
+        return replace(self, pitch=scale * self.pitch,
+                       point=place(self.point) if self.point is not None else None,
+                       direction=turn(self.direction) if self.direction is not None else None)
+
+    def constraint(self, index) -> "Helical":
+        return Helical(self, index)
+
+
+def compile_helical(b, joint) -> None:
+    """An H: the C of the builder's :meth:`line`, an arm node on the runner (and on a moving
+    guide), and the :class:`HelicalPair` record (the screw row)."""
+    b.line(joint)
+    guide, runner = joint.links
+    sign = 1.0
+    if runner == GROUND:
+        guide, runner, sign = runner, guide, -1.0
+    u, at, jid = joint.axis, joint.at, joint.id
+    n = unit_normal(u)
+    node = b.shared(joint, [runner], at, jid)
+    arm = b.shared(joint, [runner], offset(at, n, b.reach), f"{jid}.arm")
+    if node is None or arm is None:
+        return
+    out = {"id": jid, "node": node, "arm": arm, "pitch": joint.pitch}
+    if guide == GROUND:
+        out.update(point=list(at), direction=[sign * c for c in u])
+    else:
+        base = b.shared(joint, [guide], at, f"{jid}.base")
+        tip = b.shared(joint, [guide], offset(at, u, b.reach), f"{jid}.line")
+        w = (u[1] * n[2] - u[2] * n[1], u[2] * n[0] - u[0] * n[2], u[0] * n[1] - u[1] * n[0])
+        garm = b.shared(joint, [guide], offset(at, w, b.reach), f"{jid}.guide")
+        if base is None or tip is None or garm is None:
+            return
+        out.update(line=[base, tip], link=guide, guide_arm=garm)
+    b.extra(HelicalPair.key, out)
+
+
+register_joint(JointKind(
+    "H", (3,), compile_helical, axis=(3,), motions=("rotation",), title="a helical joint H",
+    keys=(JointKey("pitch", needs="the advance per radian, in model length units",
+                   must="a finite number (advance per radian, model length units)"),)))
 
 
 def _reference(direction) -> tuple:
@@ -50,13 +165,14 @@ def _reference(direction) -> tuple:
 
 
 class Helical(Constraint):
-    """The screw row of helical pair ``h`` (a :class:`~symkin.model.mechanism.Helical`).
+    """The screw row of helical pair ``h`` (a :class:`HelicalPair`).
 
     ``index`` maps node names to positions.
     """
 
     kind = "helical"
     polynomial = False
+    why_not_polynomial = "ties a slide to an angle (s = p·θ)"
 
     def __init__(self, h, index: dict):
         self.h = h

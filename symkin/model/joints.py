@@ -2,9 +2,12 @@
 
 A model may describe a mechanism by its pairs (``[[joints]]``, README "Model files"): each
 joint joins two links (``"ground"`` is the fixed frame) at a point ``at``, with an ``axis``
-(R, P, C, H in space; P in the plane), for U a second axis ``axis2`` and for H its ``pitch``.  The nodal method
-of the paper expresses every one of them with what it already has (Altuzarra et al. 2004,
-§II: shared nodes, bars, bodies; the README's sliders):
+(R, P, C in space; P in the plane), for U a second axis ``axis2``, and the keys of its kind.
+Each type is a :class:`~symkin.model.pairs.JointKind` of the registry
+:mod:`symkin.model.pairs`; this module registers those the nodal method of the paper
+expresses with what it already has (Altuzarra et al. 2004, §II: shared nodes, bars, bodies;
+the README's sliders).  A pair with a constraint of its own is one module of
+:mod:`symkin.constraints` that registers its kind (its compilation is documented there):
 
 ======  ==================================================================================
 type    compiled to
@@ -21,9 +24,6 @@ C (3D)  the second link (the runner) gets two nodes on the joint's line, ``C1`` 
         ``C1.base`` (at ``at``) and ``C1.line`` (at ``at + ℓ·axis``) of the first link (the
         guide); with ground as a link, sliders on the fixed line
 P (2D)  as C: in the plane two nodes on a line leave only the slide
-H (3D)  as C, plus an arm node ``H1.arm`` of the runner off the axis (and ``H1.guide`` of a
-        moving guide) and the screw constraint (:class:`~symkin.model.mechanism.Helical`, its
-        row in :mod:`symkin.constraints.helical`): slide = ``pitch`` × relative rotation
 P (3D)  as C, plus the key that stops the rotation about the line when neither link is a
         rod along the line (a rod's spin about its own line is no coordinate of the nodal
         method): ``P1.keyed`` of the runner slides on the line ``P1.key``-``P1.keyline`` of
@@ -41,7 +41,7 @@ nodes) must be joined on its line (else it would be a body).
 Joint rates are expressed as the existing kinematic parameters (:class:`Parameter`),
 labelled ``joint:<id>``: a planar R between two moving links is the planar ``joint``
 parameter (ω₂ − ω₁), a joint to ground the rotation of the moving link (about ``axis`` in
-space; about ``-axis`` when ground is the second link; so is an H with ground as a link; in the plane,
+space; about ``-axis`` when ground is the second link; in the plane,
 ground second, the planar ``joint`` parameter from the link to ``ground``, whose rotation is zero), P and the slide of C the slide of
 the slider ``<id>`` (relative slide of the second link along ``axis``).  The rotation rate of
 a spatial joint between two moving links (R, the rotation of C, either axis of U) is the
@@ -54,22 +54,19 @@ model error naming the joint.
 """
 from __future__ import annotations
 
+import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Mapping
 
 from symkin.errors import Problem
 from symkin.model.mechanism import Parameter, length_scale
+from symkin.model.pairs import BASE_JOINT_KEYS, JointKind, joint_keys, joint_kind, joint_kinds, joint_types, key_owners, register_joint
 
-__all__ = ["Joint", "CompiledJoints", "Limits", "JOINT_TYPES", "JOINT_KEYS", "GROUND", "compile_joints"]
+__all__ = ["Joint", "CompiledJoints", "Limits", "GROUND", "compile_joints", "unit_normal", "offset"]
 
-#: the joint types allowed in a planar (2) and a spatial (3) model
-JOINT_TYPES = {2: ("R", "P"), 3: ("R", "P", "C", "U", "S", "H")}
-JOINT_KEYS = ("id", "type", "links", "at", "axis", "axis2", "pitch")
 #: the name of the fixed frame in a joint's ``links``
 GROUND = "ground"
-#: the types that need an ``axis`` (by dimension)
-_NEEDS_AXIS = {2: ("P",), 3: ("R", "P", "C", "U", "H")}
 
 
 @dataclass(frozen=True)
@@ -82,8 +79,17 @@ class Joint:
     at: tuple[float, ...]
     axis: tuple[float, ...] | None = None
     axis2: tuple[float, ...] | None = None
-    #: H only: the advance per radian (model units; negative: a left-handed screw)
-    pitch: float | None = None
+    #: the values of its kind's own keys (:attr:`~symkin.model.pairs.JointKind.keys`) as
+    #: ``(name, value)``, in the order of :func:`~symkin.model.pairs.joint_keys`; read them as
+    #: attributes (``joint.<name>``)
+    params: tuple[tuple[str, float], ...] = ()
+
+    def __getattr__(self, name: str):
+        """A key of a joint kind (:func:`~symkin.model.pairs.joint_keys`): its value, None when
+        this joint's kind has no such key."""
+        if name.startswith("__") or name not in joint_keys():
+            raise AttributeError(f"'Joint' object has no attribute {name!r}")
+        return dict(self.__dict__.get("params", ())).get(name)
 
     def to_dict(self) -> dict:
         out: dict = {"id": self.id, "type": self.type, "links": list(self.links), "at": list(self.at)}
@@ -91,9 +97,18 @@ class Joint:
             out["axis"] = list(self.axis)
         if self.axis2 is not None:
             out["axis2"] = list(self.axis2)
-        if self.pitch is not None:
-            out["pitch"] = self.pitch
+        for name, value in self.params:
+            out[name] = value
         return out
+
+    def moved(self, turn, place, scale: float) -> "Joint":
+        """The joint after the similarity ``x ↦ scale·R x + t`` (``turn``: ``v ↦ R v``; ``place``: a
+        point's image); the kind's length keys scale."""
+        kind = joint_kind(self.type)
+        lengths = {k.name for k in kind.keys if k.length} if kind is not None else set()
+        return replace(self, at=place(self.at), axis=self.axis and turn(self.axis),
+                       axis2=self.axis2 and turn(self.axis2),
+                       params=tuple((n, scale * v if n in lengths else v) for n, v in self.params))
 
 
 @dataclass(frozen=True)
@@ -143,11 +158,12 @@ def _dot(a, b) -> float:
     return sum(x * y for x, y in zip(a, b))
 
 
-def _plus(p, v, s: float = 1.0):
+def offset(p, v, s: float = 1.0):
+    """The point ``p + s·v``."""
     return tuple(a + s * b for a, b in zip(p, v))
 
 
-def _normal(u):
+def unit_normal(u):
     """A unit vector normal to the unit vector ``u`` (3D), picked from the axis least along it."""
     k = min(range(3), key=lambda i: abs(u[i]))
     e = [0.0, 0.0, 0.0]
@@ -175,11 +191,13 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limi
         counts[jtype] = counts.get(jtype, 0) + 1
         jid = f"{jtype}{counts[jtype]}"
     where = f"{key} ({jid})" if jid else key
-    extra = [x for x in item if x not in JOINT_KEYS]
+    keys = joint_keys()
+    extra = [x for x in item if x not in keys]
     if extra:
-        bad(f"unknown key(s) {', '.join(map(repr, extra))} (allowed: {', '.join(JOINT_KEYS)})", where)
-    allowed = JOINT_TYPES[dim]
-    if jtype not in JOINT_TYPES[3]:
+        bad(f"unknown key(s) {', '.join(map(repr, extra))} (allowed: {', '.join(keys)})", where)
+    allowed = joint_types(dim)
+    kind = joint_kind(jtype)
+    if kind is None:
         bad(f"type must be one of {', '.join(allowed)} (dim = {dim}), got {jtype!r}", where)
         return None
     if jtype not in allowed:
@@ -206,7 +224,7 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limi
         ok = False
     axes = []
     for name in ("axis", "axis2"):
-        needed = (jtype in _NEEDS_AXIS[dim]) if name == "axis" else jtype == "U"
+        needed = (dim in kind.axis) if name == "axis" else kind.axis2
         value = item.get(name)
         if value is None:
             if needed:
@@ -231,34 +249,53 @@ def _parse_joint(item: Any, k: int, dim: int, links: Mapping, counts: dict, limi
             axes.append(None)
             continue
         axes.append(_unit(tuple(float(v) for v in value)))
-    pitch = item.get("pitch")
-    if jtype == "H":
-        if pitch is None:
-            bad("a helical joint H needs 'pitch' (the advance per radian, in model length units)", where)
+    params = []
+    own = {k.name: k for k in kind.keys}
+    for name in keys[len(BASE_JOINT_KEYS):]:  # the kinds' own keys
+        value = item.get(name)
+        spec = own.get(name)
+        if spec is None:
+            if value is not None:
+                owners = " or ".join(k.name for k in key_owners(name))
+                bad(f"'{name}' goes with {owners}, not with a {jtype} joint", where)
+                ok = False
+        elif value is None:
+            bad(f"{kind.name} needs '{name}' ({spec.needs})", where)
             ok = False
-        elif not limits.number(pitch):
-            bad(f"pitch must be a finite number (advance per radian, model length units), got {pitch!r}", where)
+        elif not limits.number(value):
+            bad(f"{name} must be {spec.must}, got {value!r}", where)
             ok = False
-    elif pitch is not None:
-        bad(f"'pitch' goes with a helical joint H, not with a {jtype} joint", where)
-        ok = False
+        else:
+            params.append((name, float(value)))
     if not ok:
         return None
     return Joint(id=jid, type=jtype, links=(pair[0], pair[1]), at=tuple(float(v) for v in at),
-                 axis=axes[0], axis2=axes[1], pitch=float(pitch) if jtype == "H" else None)
+                 axis=axes[0], axis2=axes[1], params=tuple(params))
 
 
 class _Builder:
-    """Nodes, links, fixed nodes and sliders of the node form, built joint by joint."""
+    """Nodes, links, fixed nodes, sliders and extra records of the node form, built joint by joint.
 
-    def __init__(self, data: Mapping, reach: float, tol: float, problems: list):
+    What a kind's compile step (:attr:`~symkin.model.pairs.JointKind.compile`) uses:
+    :meth:`shared` (a node of some links at a point, made if new), :meth:`line` (the two
+    runner nodes of a P or C on the guide's line), :meth:`extra` (a record of an extra
+    constraint, as a table of the model dictionary), :meth:`along`; ``reach`` (the model's
+    length, the distance of added axis nodes), ``dim``, ``tol``, ``links``, ``nodes`` and
+    ``problems`` (a list of :class:`~symkin.errors.Problem`).
+    """
+
+    def __init__(self, data: Mapping, dim: int, reach: float, tol: float, problems: list):
         self.nodes = {n: tuple(float(c) for c in p) for n, p in (data.get("nodes") or {}).items()}
         self.links = {n: list(ns) for n, ns in data["links"].items()}
         self.given = {n: tuple(ns) for n, ns in self.links.items() if ns}  # links listed with their nodes
         self.fixed = list(data.get("fixed", []))
         self.sliders: list[dict] = []
-        self.helicals: list[dict] = []
-        self.reach, self.tol, self.problems = reach, tol, problems
+        self.extras: dict[str, list[dict]] = {}
+        self.dim, self.reach, self.tol, self.problems = dim, reach, tol, problems
+
+    def extra(self, key: str, item: dict) -> None:
+        """Add ``item`` to the list of tables under ``key`` (an extra constraint's model-dictionary key)."""
+        self.extras.setdefault(key, []).append(item)
 
     def near(self, names, point):
         return [n for n in names if n in self.nodes and len(self.nodes[n]) == len(point)
@@ -322,7 +359,7 @@ class _Builder:
         if runner == GROUND:
             guide, runner, sign = runner, guide, -1.0
         u, at, jid = joint.axis, joint.at, joint.id
-        end = _plus(at, u, self.reach)
+        end = offset(at, u, self.reach)
         if guide == GROUND:
             way = {"point": list(at), "direction": [sign * c for c in u]}
         else:
@@ -336,32 +373,6 @@ class _Builder:
             if node is None:
                 return
             self.sliders.append({"id": name, "node": node, **way})
-
-    def helical(self, joint: Joint) -> None:
-        """An H: the C of :meth:`line`, an arm node on the runner (and on a moving guide), the screw row."""
-        self.line(joint)
-        guide, runner = joint.links
-        sign = 1.0
-        if runner == GROUND:
-            guide, runner, sign = runner, guide, -1.0
-        u, at, jid = joint.axis, joint.at, joint.id
-        n = _normal(u)
-        node = self.shared(joint, [runner], at, jid)
-        arm = self.shared(joint, [runner], _plus(at, n, self.reach), f"{jid}.arm")
-        if node is None or arm is None:
-            return
-        out = {"id": jid, "node": node, "arm": arm, "pitch": joint.pitch}
-        if guide == GROUND:
-            out.update(point=list(at), direction=[sign * c for c in u])
-        else:
-            base = self.shared(joint, [guide], at, f"{jid}.base")
-            tip = self.shared(joint, [guide], _plus(at, u, self.reach), f"{jid}.line")
-            w = (u[1] * n[2] - u[2] * n[1], u[2] * n[0] - u[0] * n[2], u[0] * n[1] - u[1] * n[0])
-            garm = self.shared(joint, [guide], _plus(at, w, self.reach), f"{jid}.guide")
-            if base is None or tip is None or garm is None:
-                return
-            out.update(line=[base, tip], link=guide, guide_arm=garm)
-        self.helicals.append(out)
 
     def along(self, link: str, at, u) -> bool:
         """Every node of ``link`` on the line through ``at`` along ``u`` (a rod on that line)."""
@@ -377,7 +388,7 @@ def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list,
     rate is not made (and nothing is reported).
     """
     first, second = joint.links
-    label = f"joint:{joint.id}" if joint.type in ("R", "P", "H") else f"joint:{joint.id}.{motion}"
+    label = f"joint:{joint.id}" if len(_motions(joint)) == 1 else f"joint:{joint.id}.{motion}"
     if motion == "slide":
         return Parameter("slide", (joint.id,), label=label)
     if dim == 2:
@@ -405,13 +416,13 @@ def _rate(joint: Joint, dim: int, motion: str, where: str, problems: list,
 def _rate_links(joint: Joint, motion: str) -> tuple[str, str, tuple]:
     """The two links whose relative rotation is the rate ``motion`` of a spatial joint, and its axis.
 
-    U's axis 1 is the cross turning on the first link about ``axis``, axis 2 the second link
-    turning on the cross about ``axis2``; R and C turn the second link on the first.
+    The kind's :attr:`~symkin.model.pairs.JointKind.rate_links` (U: :func:`_u_rate_links`), by
+    default the second link turning on the first about ``axis`` (R, C).
     """
+    kind = joint_kind(joint.type)
+    if kind.rate_links is not None:
+        return kind.rate_links(joint, motion)
     first, second = joint.links
-    if joint.type == "U":
-        cross = f"{joint.id}.cross"
-        return (first, cross, joint.axis) if motion == "1" else (cross, second, joint.axis2)
     return first, second, joint.axis
 
 
@@ -425,7 +436,7 @@ def _axis_nodes(b: "_Builder", joint: Joint, motion: str):
     """
     first, second, axis = _rate_links(joint, motion)
     ends = []
-    for point in (joint.at, _plus(joint.at, axis, b.reach)):
+    for point in (joint.at, offset(joint.at, axis, b.reach)):
         found = b.near(b.links[first], point)
         if not found:
             return f"joint {joint.id}: no node of link {first} on its axis"
@@ -438,16 +449,14 @@ def _axis_nodes(b: "_Builder", joint: Joint, motion: str):
 
 
 def _motions(joint: Joint) -> tuple[str, ...]:
-    """The rates a joint has: "rotation", "slide", or "1", "2" for U (S has none by joint)."""
-    if joint.type in ("R", "H"):
-        return ("rotation",)
-    if joint.type == "P":
-        return ("slide",)
-    if joint.type == "C":
-        return ("rotation", "slide")
-    if joint.type == "U":
-        return ("1", "2")
-    return ()
+    """The rates a joint has (its kind's :attr:`~symkin.model.pairs.JointKind.motions`)."""
+    return joint_kind(joint.type).motions
+
+
+def _and(words) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    words = list(words)
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
 
 
 def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems: list,
@@ -460,31 +469,32 @@ def _joint_parameter(item: Mapping, where: str, by_id: dict, dim: int, problems:
     if joint is None:
         problems.append(Problem(where, f"unknown joint {item['joint']!r}"))
         return None
-    extra = [k for k in item if k not in ("joint", "label", "motion", "axis")]
+    choosers = [k for k in joint_kinds() if k.choice is not None]
+    choice_keys = list(dict.fromkeys(k.choice[0] for k in choosers))
+    extra = [k for k in item if k not in ["joint", "label"] + choice_keys]
     if extra:
         problems.append(Problem(where, f"unknown key(s) {', '.join(map(repr, extra))} for a joint rate"))
         return None
-    if joint.type == "C":
-        motion = item.get("motion")
-        if motion not in ("rotation", "slide"):
-            problems.append(Problem(where, f"joint {joint.id} is a C: give motion = \"rotation\" or \"slide\""))
+    kind = joint_kind(joint.type)
+    if kind.choice is not None:
+        key, values = kind.choice
+        value = item.get(key)
+        if value not in values or isinstance(value, bool):
+            problems.append(Problem(where, f"joint {joint.id} is {kind.article} {joint.type}: give {key} = "
+                                           + " or ".join(json.dumps(v) for v in values)))
             return None
-    elif joint.type == "U":
-        k = item.get("axis")
-        if k not in (1, 2) or isinstance(k, bool):
-            problems.append(Problem(where, f"joint {joint.id} is a U: give axis = 1 or 2"))
-            return None
-        motion = str(k)
-    elif joint.type == "S":
-        problems.append(Problem(where, f"joint {joint.id} is an S: it has no single rate; use "
-                                       "rotations of its links"))
+        motion = str(value)
+    elif not kind.motions:
+        problems.append(Problem(where, f"joint {joint.id} is {kind.article} {joint.type}: it has no single "
+                                       "rate; use rotations of its links"))
         return None
     else:
-        if "motion" in item or "axis" in item:
-            problems.append(Problem(where, f"'motion' and 'axis' go with C and U joints, not with "
+        if any(k in item for k in choice_keys):
+            problems.append(Problem(where, f"{_and(repr(k) for k in choice_keys)} go with "
+                                           f"{_and(k.type for k in choosers)} joints, not with "
                                            f"{joint.type} joint {joint.id}"))
             return None
-        motion = _motions(joint)[0]
+        motion = kind.motions[0]
     p = _rate(joint, dim, motion, where, problems, axes)
     if p is None:
         return None
@@ -545,43 +555,23 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
         seen[j.id] = k
         joints.append(j)
     for j in joints:
-        if j.type == "U" and abs(_dot(j.axis, j.axis2)) > limits.geometry:
-            angle = math.degrees(math.acos(max(-1.0, min(1.0, _dot(j.axis, j.axis2)))))
-            problems.append(Problem(f"joints ({j.id})", f"the axes of U joint {j.id} are not perpendicular "
-                                                        f"({angle:.6g}°; tolerance {limits.geometry:g} in the "
-                                                        "cosine)"))
+        check = joint_kind(j.type).check
+        message = check(j, limits) if check is not None else None
+        if message is not None:
+            problems.append(Problem(f"joints ({j.id})", message))
     if problems:
         return CompiledJoints(dict(data), tuple(joints), (), tuple(problems))
 
     points = [tuple(map(float, p)) for p in nodes.values()] + [j.at for j in joints]
     reach = length_scale(dict(enumerate(points)), [range(len(points))])
-    b = _Builder(data, reach, limits.geometry * reach, problems)
+    b = _Builder(data, dim, reach, limits.geometry * reach, problems)
     for j in joints:
-        if not b.check_on(j):
-            continue
-        pair = list(j.links)
-        if j.type in ("S",) or (j.type == "R" and dim == 2):
-            b.shared(j, pair, j.at, j.id)
-        elif j.type == "R":
-            if b.shared(j, pair, j.at, j.id) is not None:
-                b.shared(j, pair, _plus(j.at, j.axis, reach), f"{j.id}.axis")
-        elif j.type == "U":
-            cross = f"{j.id}.cross"
-            if cross in b.links:
-                problems.append(Problem(f"joints ({j.id})", f"link {cross!r} exists: rename the link or the joint"))
-                continue
-            b.links[cross] = []
-            if b.shared(j, [pair[0], cross, pair[1]], j.at, j.id) is not None:
-                b.shared(j, [pair[0], cross], _plus(j.at, j.axis, reach), f"{j.id}.axis")
-                b.shared(j, [cross, pair[1]], _plus(j.at, j.axis2, reach), f"{j.id}.axis2")
-        elif j.type == "H":
-            b.helical(j)
-        else:  # P, C: the key of a spatial P is decided once every joint has placed its nodes
-            b.line(j)
-    for j in joints:
-        if dim == 3 and j.type == "P" and not problems and not any(
-                link != GROUND and b.along(link, j.at, j.axis) for link in j.links):
-            _key(b, j)
+        if b.check_on(j):
+            joint_kind(j.type).compile(b, j)
+    for j in joints:  # second passes (the key of a spatial P), once every joint has placed its nodes
+        finish = joint_kind(j.type).finish
+        if finish is not None and not problems:
+            finish(b, j)
 
     axes = {(j.id, m): _axis_nodes(b, j, m) for j in joints if dim == 3 and not problems
             for m in _motions(j) if m != "slide" and GROUND not in _rate_links(j, m)[:2]}
@@ -610,8 +600,9 @@ def compile_joints(data: Mapping, dim: int, limits: Limits) -> CompiledJoints:
     out["fixed"] = b.fixed
     sliders = data.get("sliders", [])
     out["sliders"] = list(sliders) + b.sliders if isinstance(sliders, (list, tuple)) else sliders
-    if b.helicals:
-        out["helicals"] = b.helicals
+    for key, items in b.extras.items():  # the records of extra constraints (kinds of symkin.constraints)
+        given = data.get(key, [])
+        out[key] = list(given) + items if isinstance(given, (list, tuple)) else given
     return CompiledJoints(out, tuple(joints), tuple(rates), tuple(problems))
 
 
@@ -622,15 +613,75 @@ def _key(b: _Builder, j: Joint) -> None:
     if runner == GROUND:
         guide, runner, sign = runner, guide, -1.0
     u, at, reach = j.axis, j.at, b.reach
-    off = _plus(at, _normal(u), reach)
+    off = offset(at, unit_normal(u), reach)
     if guide == GROUND:
         way = {"point": list(off), "direction": [sign * c for c in u]}
     else:
         a = b.shared(j, [guide], off, f"{j.id}.key")
-        c = b.shared(j, [guide], _plus(off, u, reach), f"{j.id}.keyline")
+        c = b.shared(j, [guide], offset(off, u, reach), f"{j.id}.keyline")
         if a is None or c is None:
             return
         way = {"line": [a, c], "link": guide}
     node = b.shared(j, [runner], off, f"{j.id}.keyed")
     if node is not None:
         b.sliders.append({"id": f"{j.id}.keyed", "node": node, **way})
+
+
+# ---------------------------------------------------------------------- the built-in joint kinds
+def _point(b: _Builder, j: Joint) -> None:
+    """S, planar R: one node shared by both links."""
+    b.shared(j, list(j.links), j.at, j.id)
+
+
+def _revolute(b: _Builder, j: Joint) -> None:
+    """R: in the plane a shared node; in space two shared nodes on the axis."""
+    if b.dim == 2:
+        _point(b, j)
+    elif b.shared(j, list(j.links), j.at, j.id) is not None:
+        b.shared(j, list(j.links), offset(j.at, j.axis, b.reach), f"{j.id}.axis")
+
+
+def _universal(b: _Builder, j: Joint) -> None:
+    """U: the cross link, sharing the centre with both links and one axis node with each."""
+    first, second = j.links
+    cross = f"{j.id}.cross"
+    if cross in b.links:
+        b.problems.append(Problem(f"joints ({j.id})", f"link {cross!r} exists: rename the link or the joint"))
+        return
+    b.links[cross] = []
+    if b.shared(j, [first, cross, second], j.at, j.id) is not None:
+        b.shared(j, [first, cross], offset(j.at, j.axis, b.reach), f"{j.id}.axis")
+        b.shared(j, [cross, second], offset(j.at, j.axis2, b.reach), f"{j.id}.axis2")
+
+
+def _perpendicular(j: Joint, limits: Limits) -> str | None:
+    """U: the two axes normal to each other (within the geometric tolerance, in the cosine)."""
+    if abs(_dot(j.axis, j.axis2)) <= limits.geometry:
+        return None
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, _dot(j.axis, j.axis2)))))
+    return (f"the axes of U joint {j.id} are not perpendicular ({angle:.6g}°; tolerance "
+            f"{limits.geometry:g} in the cosine)")
+
+
+def _u_rate_links(j: Joint, motion: str) -> tuple[str, str, tuple]:
+    """U's axis 1 is the cross turning on the first link about ``axis``, axis 2 the second link
+    turning on the cross about ``axis2``."""
+    first, second = j.links
+    cross = f"{j.id}.cross"
+    return (first, cross, j.axis) if motion == "1" else (cross, second, j.axis2)
+
+
+def _keyed(b: _Builder, j: Joint) -> None:
+    """Spatial P: the key, unless one of its links is a rod along the line."""
+    if b.dim == 3 and not any(link != GROUND and b.along(link, j.at, j.axis) for link in j.links):
+        _key(b, j)
+
+
+for _kind in (JointKind("R", (2, 3), _revolute, axis=(3,), motions=("rotation",)),
+              JointKind("P", (2, 3), _Builder.line, axis=(2, 3), motions=("slide",), finish=_keyed),
+              JointKind("C", (3,), _Builder.line, axis=(3,), motions=("rotation", "slide"),
+                        choice=("motion", ("rotation", "slide"))),
+              JointKind("U", (3,), _universal, axis=(3,), axis2=True, motions=("1", "2"), choice=("axis", (1, 2)),
+                        check=_perpendicular, rate_links=_u_rate_links),
+              JointKind("S", (3,), _point, article="an")):
+    register_joint(_kind)

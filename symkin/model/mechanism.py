@@ -17,8 +17,9 @@ from itertools import chain
 from typing import Iterable, Mapping
 
 from symkin.errors import ModelError, Problem
+from symkin.model.pairs import extra_kind, extra_kinds
 
-__all__ = ["Slider", "Helical", "Parameter", "ParameterList", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
+__all__ = ["Slider", "Parameter", "ParameterList", "Mechanism", "Topology", "AXES", "TWIST_COMPONENTS", "length_scale"]
 
 AXES = ("x", "y", "z")
 #: component names of a twist (velocity of the link's first node, then angular velocity)
@@ -72,37 +73,6 @@ class Slider:
         if self.line is not None:
             out["line"] = list(self.line)
             out["link"] = self.link
-        return out
-
-
-@dataclass(frozen=True)
-class Helical:
-    """The screw constraint of a helical pair H (compiled from a joint, :mod:`symkin.model.joints`).
-
-    The runner's node ``node`` on the axis and its arm node ``arm`` off the axis turn and
-    slide together: slide = ``pitch`` × relative rotation (``pitch`` in model units per
-    radian).  The guide is a link, with the nodes ``line = (base, tip)`` on the axis and
-    the arm node ``guide_arm``, or ground, with the fixed axis ``point`` + ``direction``.
-    The cylindrical pair under it is made of sliders; :mod:`symkin.constraints.helical`
-    states the row.
-    """
-
-    id: str
-    node: str
-    arm: str
-    pitch: float
-    line: tuple[str, str] | None = None
-    link: str | None = None
-    guide_arm: str | None = None
-    point: tuple[float, ...] | None = None
-    direction: tuple[float, ...] | None = None
-
-    def to_dict(self) -> dict:
-        out: dict = {"id": self.id, "node": self.node, "arm": self.arm, "pitch": self.pitch}
-        for key in ("line", "link", "guide_arm", "point", "direction"):
-            value = getattr(self, key)
-            if value is not None:
-                out[key] = list(value) if isinstance(value, tuple) else value
         return out
 
 
@@ -198,6 +168,29 @@ class Topology:
 
     def __repr__(self) -> str:
         return f"Topology(dim={self.key[0]}, nodes={len(self.key[1])}, links={len(self.key[2])})"
+
+    # named parts of the key (built by :attr:`Mechanism.topology`; the extras are present only
+    # when there are some, so that a model without them keeps the key it always had)
+    @property
+    def dim(self) -> int:
+        return self.key[0]
+
+    @property
+    def node_names(self) -> tuple[str, ...]:
+        return self.key[1]
+
+    @property
+    def links(self) -> tuple:
+        return self.key[2]
+
+    @property
+    def sliders(self) -> tuple:
+        return self.key[4]
+
+    @property
+    def extras(self) -> tuple:
+        """The mechanism's :attr:`~Mechanism.extras` (records of extra constraints)."""
+        return self.key[10] if len(self.key) > 10 else ()
 
 
 def _float_array_nodes(mech: "Mechanism", coords) -> tuple | None:
@@ -333,8 +326,18 @@ class Mechanism:
     joints: tuple = field(default=(), compare=False)
     #: ``(label, Parameter)`` of every joint rate an existing parameter expresses (``joint:R1``)
     joint_rates: tuple = field(default=(), compare=False)
-    #: the screw constraints of helical pairs (compiled from H joints)
-    helicals: tuple[Helical, ...] = ()
+    #: the records of the extra constraints (:class:`~symkin.model.pairs.ExtraConstraint`:
+    #: pairs whose rows the nodal method does not have, compiled from their joints), grouped
+    #: by kind in registration order; ``mech.<key>`` gives one kind's (see :meth:`__getattr__`)
+    extras: tuple = ()
+
+    def __getattr__(self, name: str):
+        """``mech.<key>``: the records of the extra-constraint kind registered under the model
+        key ``<key>`` (:func:`symkin.model.pairs.extra_kind`), a read-only tuple."""
+        kind = extra_kind(name) if not name.startswith("__") else None
+        if kind is None:
+            raise AttributeError(f"'Mechanism' object has no attribute {name!r}")
+        return tuple(r for r in self.__dict__.get("extras", ()) if isinstance(r, kind))
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -361,8 +364,10 @@ class Mechanism:
         out["links"] = {name: list(ns) for name, ns in self.links}
         if self.sliders:
             out["sliders"] = [s.to_dict() for s in self.sliders]
-        if self.helicals:
-            out["helicals"] = [h.to_dict() for h in self.helicals]
+        for kind in extra_kinds():
+            records = [r.to_dict() for r in self.extras if isinstance(r, kind)]
+            if records:
+                out[kind.key] = records
         return out
 
     def with_coordinates(self, coords: Mapping[str, Iterable[float]] | Iterable) -> "Mechanism":
@@ -425,19 +430,12 @@ class Mechanism:
                 return replace(p, axis=turn(p.axis))
             return p
 
-        helicals = tuple(replace(h, pitch=scale * h.pitch,
-                                 point=place(h.point) if h.point is not None else None,
-                                 direction=turn(h.direction) if h.direction is not None else None)
-                         for h in self.helicals)
         return replace(self, nodes=tuple((n, place(x)) for n, x in self.nodes), sliders=sliders,
-                       helicals=helicals,
+                       extras=tuple(r.moved(turn, place, scale) for r in self.extras),
                        inputs=tuple(param(p) for p in self.inputs),
                        outputs=tuple(param(p) for p in self.outputs),
                        joint_rates=tuple((lab, param(p)) for lab, p in self.joint_rates),
-                       joints=tuple(replace(j, at=place(j.at), axis=j.axis and turn(j.axis),
-                                            axis2=j.axis2 and turn(j.axis2),
-                                            **({"pitch": scale * j.pitch} if getattr(j, "pitch", None) is not None
-                                               else {})) for j in self.joints))
+                       joints=tuple(j.moved(turn, place, scale) for j in self.joints))
 
     # ------------------------------------------------------------------ queries
     @cached_property
@@ -445,7 +443,7 @@ class Mechanism:
         """The mechanism without its coordinates (see :class:`Topology`)."""
         return Topology((self.dim, self.node_names, self.links, self.fixed, self.sliders,
                          self.inputs, self.outputs, self.mobility, self.platform, self.platform_dof)
-                        + ((self.helicals,) if self.helicals else ()))
+                        + ((self.extras,) if self.extras else ()))
 
     @cached_property
     def node_names(self) -> tuple[str, ...]:

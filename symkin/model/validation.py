@@ -14,14 +14,17 @@ from typing import Any, Mapping
 
 from symkin.errors import ModelError, Problem
 from symkin.model.joints import GROUND, Limits, compile_joints
-from symkin.model.mechanism import AXES, Helical, Mechanism, Parameter, Slider, length_scale
+from symkin.model.mechanism import AXES, Mechanism, Parameter, Slider, length_scale
+from symkin.model.pairs import ItemContext, extra_keys, extra_kinds
 from symkin.tolerances import DEFAULT
 
 __all__ = ["parse_mechanism", "TOP_LEVEL_KEYS", "PARAMETER_KINDS", "SLIDER_KEYS", "COORDINATE_LIMIT",
            "MIN_LENGTH"]
 
+#: the keys of a model dictionary; the keys of the registered extra constraints
+#: (:func:`symkin.model.pairs.extra_keys`) are allowed too
 TOP_LEVEL_KEYS = ("name", "description", "dim", "fixed", "mobility", "inputs", "outputs",
-                  "platform", "platform_dof", "nodes", "links", "sliders", "joints", "helicals")
+                  "platform", "platform_dof", "nodes", "links", "sliders", "joints")
 PARAMETER_KINDS = ("rotation", "slide", "velocity", "twist", "joint")
 PARAMETER_KEYS = PARAMETER_KINDS + ("axis", "component", "label")
 SLIDER_KEYS = ("id", "node", "point", "direction", "normal", "line", "link")
@@ -133,7 +136,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
     out = _Collector()
     if not isinstance(data, Mapping):
         raise ModelError([Problem("", f"a model must be a table/object, got {type(data).__name__}")], source)
-    _unknown_keys(data, TOP_LEVEL_KEYS, "", out)
+    _unknown_keys(data, TOP_LEVEL_KEYS + extra_keys(), "", out)
 
     name = data.get("name", "unnamed mechanism")
     if not isinstance(name, str):
@@ -187,7 +190,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
         out.add("fixed", f"every node is fixed ({len(nodes)} nodes): nothing can move")
     sliders = _parse_sliders(data.get("sliders", []), dim, nodes, links, set(fixed), scale,
                              tolerances.geometry, out)
-    helicals = _parse_helicals(data.get("helicals", []), dim, nodes, links, out)
+    extras = _parse_extras(data, dim, nodes, links, out)
     link_set = set(links)
     fixed_set = set(fixed)
     ground = {l for l, ns in links.items() if all(n in fixed_set for n in ns)}
@@ -222,7 +225,7 @@ def parse_mechanism(data: Any, source: str | None = None, tolerances=DEFAULT) ->
                      fixed=fixed, sliders=tuple(sliders), inputs=tuple(inputs), outputs=tuple(outputs),
                      mobility=mobility, platform=platform, platform_dof=platform_dof,
                      description=description, joints=joints, joint_rates=joint_rates,
-                     helicals=tuple(helicals))
+                     extras=tuple(extras))
 
 
 # ---------------------------------------------------------------------- parts
@@ -414,42 +417,29 @@ def _parse_sliders(items: Any, dim, nodes, links, fixed: set[str], scale, tol, o
     return sliders
 
 
-HELICAL_KEYS = ("id", "node", "arm", "pitch", "line", "link", "guide_arm", "point", "direction")
-
-
-def _parse_helicals(items: Any, dim, nodes, links, out: _Collector) -> list[Helical]:
-    """The screw constraints of H joints (written by :mod:`symkin.model.joints`; see :class:`Helical`)."""
-    if not isinstance(items, (list, tuple)):
-        out.add("helicals", "must be a list of tables")
-        return []
+def _parse_extras(data: Mapping, dim, nodes, links, out: _Collector) -> list:
+    """The records of the extra constraints (:class:`~symkin.model.pairs.ExtraConstraint`), kind
+    by kind in registration order: each kind's key holds a list of tables, each table is
+    checked for unknown keys and parsed by its kind."""
+    ctx = ItemContext(dim=dim, nodes=nodes, links=links, problem=out.add,
+                      vector=lambda value, key, what: _vector(value, dim, key, out, what),
+                      direction=lambda value, key, what: _direction(value, dim, key, out, what),
+                      number=_is_number, short=_short)
     found = []
-    for k, item in enumerate(items):
-        key = f"helicals[{k}]"
-        if not isinstance(item, Mapping):
-            out.add(key, "must be a table")
+    for kind in extra_kinds():
+        items = data.get(kind.key, [])
+        if not isinstance(items, (list, tuple)):
+            out.add(kind.key, "must be a list of tables")
             continue
-        _unknown_keys(item, HELICAL_KEYS, key, out)
-        if dim != 3:
-            out.add(key, "a helical pair is spatial (dim = 3)")
-            continue
-        names = [item.get("node"), item.get("arm")] + list(item.get("line") or []) + \
-            ([item["guide_arm"]] if "guide_arm" in item else [])
-        bad = [n for n in names if not isinstance(n, str) or n not in nodes]
-        pitch = item.get("pitch")
-        if bad or not isinstance(item.get("id"), str) or not _is_number(pitch):
-            out.add(key, f"needs id, pitch (a number) and nodes of the model (unknown: {_short(bad)})")
-            continue
-        moving = "line" in item
-        if moving and (item.get("link") not in links or "guide_arm" not in item or len(item["line"]) != 2):
-            out.add(key, "a moving guide needs line (two nodes), link and guide_arm")
-            continue
-        point = None if moving else _vector(item.get("point"), dim, key, out, "point")
-        direction = None if moving else _direction(item.get("direction"), dim, key, out, "direction")
-        if not moving and (point is None or direction is None):
-            continue
-        found.append(Helical(id=item["id"], node=item["node"], arm=item["arm"], pitch=float(pitch),
-                             line=tuple(item["line"]) if moving else None, link=item.get("link"),
-                             guide_arm=item.get("guide_arm"), point=point, direction=direction))
+        for k, item in enumerate(items):
+            key = f"{kind.key}[{k}]"
+            if not isinstance(item, Mapping):
+                out.add(key, "must be a table")
+                continue
+            _unknown_keys(item, kind.keys, key, out)
+            record = kind.parse(item, key, ctx)
+            if record is not None:
+                found.append(record)
     return found
 
 

@@ -236,7 +236,7 @@ def _moments_3d(rows) -> tuple[float, ...]:
 
 
 def _slider_rows(mech: Mechanism, pl: _Plan, x: list) -> tuple[list[np.ndarray], list[str]]:
-    """Rows and owners of the constraints after the links (sliders, helical pairs).
+    """Rows and owners of the constraints after the links (sliders, then extra constraints).
 
     Each is its definition in :mod:`symkin.constraints` evaluated in floats; ``x`` are
     the node coordinates (tuples of floats).
@@ -287,7 +287,7 @@ def constraint_rows(mech: Mechanism, tolerances=DEFAULT, xyz: np.ndarray | None 
             pieces += [bars[start:end], np.array(extra)]
             owners += list(pl.bar_owners[start:end]) + [body.owner] * len(extra)
             start = end
-    sliders, slider_owners = _slider_rows(mech, pl, pts) if (mech.sliders or mech.helicals) else ([], [])
+    sliders, slider_owners = _slider_rows(mech, pl, pts) if slider_constraints(mech) else ([], [])
     if not pieces and not sliders:
         return ConstraintRows(matrix=bars, owners=pl.bar_owners)
     pieces.append(bars[start:])

@@ -36,6 +36,7 @@ import scipy.sparse as sps
 
 from symkin.errors import ModelError, Problem
 from symkin.model.mechanism import AXES, Mechanism
+from symkin.constraints import slider_constraints
 from symkin.constraints.body import affine_frame
 from symkin.numeric.geometric_matrix import _slider_rows, _unit_vectors
 from symkin.numeric.linalg import affine_hull, left_null_space
@@ -207,7 +208,7 @@ def sparse_constraint_rows(mech: Mechanism, tolerances: Tolerances = DEFAULT) ->
 
     matrix = sps.csr_matrix((np.concatenate(v_list), (np.concatenate(r_list), np.concatenate(c_list))),
                             shape=(nrow, ncoord))
-    if mech.sliders or mech.helicals:  # the constraints after the links, as the dense rows give them
+    if slider_constraints(mech):  # the constraints after the links, as the dense rows give them
         sl, sl_owners = _slider_rows(mech, _SliderPlan(dim, ncoord, index), pts)
         matrix = sps.vstack([matrix, sps.csr_matrix(np.array(sl))], format="csr")
         owners += sl_owners
