@@ -6,7 +6,7 @@ library only: the model stage imports neither NumPy, sympy nor CasADi, nor
 
 * a :class:`JointKind`: the ``type`` letter of a ``[[joints]]`` entry and everything
   :mod:`symkin.model.joints` does by type: the dimensions it is allowed in, whether it needs
-  ``axis`` and ``axis2``, its own keys (:class:`JointKey`, e.g. a screw's ``pitch``) and
+  ``axis`` and ``axis2``, its own keys (:class:`JointKey`, scalars such as a length) and
   their checks, a check across its keys, its compile step (given the builder of the node
   form), a second pass once every joint has placed its nodes, its rates (``motions``), how an
   input entry picks one of them and which links a rotation rate is between;
@@ -32,9 +32,9 @@ first, then the modules of :mod:`symkin.constraints` by name; the order of the e
 records, and of their rows, follows it.
 
 A :class:`~symkin.model.mechanism.Mechanism` holds the records of every extra kind in one
-tuple, :attr:`~symkin.model.mechanism.Mechanism.extras`; ``mech.<key>`` (for instance the
-records under ``"helicals"``) gives those of one kind, and :meth:`Mechanism.to_dict` writes
-them under their key, so model files and scripts read as before.
+tuple, :attr:`~symkin.model.mechanism.Mechanism.extras`; ``mech.<key>`` gives those of one
+kind (the records under that key of the model dictionary), and :meth:`Mechanism.to_dict` writes
+them under their key, so model files and scripts read as they did when each kind had a field.
 
 Examples
 --------
@@ -59,7 +59,7 @@ BASE_JOINT_KEYS = ("id", "type", "links", "at", "axis", "axis2")
 
 @dataclass(frozen=True)
 class JointKey:
-    """A joint kind's own scalar key (``pitch`` of a screw).
+    """A joint kind's own scalar key.
 
     ``needs`` is said when the key is missing (what it is), ``must`` when its value is not a
     finite number (what it must be); a key with ``length`` true is a length and scales with
@@ -170,7 +170,7 @@ class ExtraConstraint:
 
     @classmethod
     def parse(cls, item: Mapping, where: str, ctx: ItemContext) -> "ExtraConstraint | None":
-        """The record of the table ``item`` (at ``where``, e.g. ``"helicals[0]"``), or None
+        """The record of the table ``item`` (at ``where``, ``"<key>[<k>]"``), or None
         after reporting every problem through ``ctx.problem``."""
         raise NotImplementedError
 

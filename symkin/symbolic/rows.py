@@ -148,6 +148,9 @@ class RowBuilder:
         if coordinates == "angles" and mech.dim != 2:
             raise SymkinError("angle coordinates are defined for planar models only "
                               f"({mech.name!r} is spatial); use coordinates='nodes'")
+        if coordinates == "angles" and mech.extras:  # the pair kinds' own rows are over node coordinates
+            raise SymkinError("angle coordinates express links and sliders only; the constraints of "
+                              f"{', '.join(sorted({type(r).key for r in mech.extras}))} need coordinates='nodes'")
         self.mech = mech
         self.mode = coordinates
         self.dim = mech.dim
