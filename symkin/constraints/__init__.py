@@ -22,7 +22,8 @@ record of its extra constraint (model-dictionary key, parse, ``to_dict``, ``move
 
 **What a new pair kind touches now: one file here plus its test.**  Importing this
 package (which ``import symkin`` does, before any model is parsed) imports every module of
-it (:mod:`pkgutil`, by name, after the built-in joints of :mod:`symkin.model.joints`), so a
+it (:mod:`pkgutil`, by name, but those starting with ``_``; after the built-in joints of
+:mod:`symkin.model.joints`), so a
 new module registers itself with no other edit: the model file's parser, the joint
 compiler, the numeric core, the CasADi model, the symbolic rows and the polynomial systems
 (which refuse a constraint that is not :attr:`~base.Constraint.polynomial`, naming it) all
