@@ -263,11 +263,15 @@ def tether_run(tmp_path_factory):
     assert run.returncode == 0, run.stderr[-3000:]
     out = json.loads(run.stdout.strip().splitlines()[-1])
     assert out["file"] == str(tmp / "symkin" / "__init__.py")  # the copy, not the worktree
+    out["changed"] = sorted(str(f.relative_to(tmp)) for f in (tmp / "symkin").rglob("*.py")
+                            if not (ROOT / f.relative_to(tmp)).is_file()
+                            or (ROOT / f.relative_to(tmp)).read_bytes() != f.read_bytes())
     return out
 
 
 def test_the_copy_differs_from_the_package_by_one_file(tether_run, tmp_path_factory):
     """The kind was found with no other edit: the copy is the package plus one module."""
+    assert tether_run["changed"] == ["symkin/constraints/tether.py"]
     assert "T" in tether_run["types2"] and "T" in tether_run["types3"]
     assert tether_run["types3"][:6] == ["R", "P", "C", "U", "S", "H"]  # the built-in order kept
     assert tether_run["extra_keys"] == ["helicals", "tethers"]         # modules by name
