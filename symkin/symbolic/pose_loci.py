@@ -532,6 +532,15 @@ def _integral(expr: sp.Expr, gens) -> dict:
     return {m: int(c * den) for m, c in f.items()}
 
 
+def _integers(values) -> np.ndarray:
+    """An object array of the ground integers of sympy's ``ZZ`` (gmpy2's ``mpz`` when installed: faster
+    products of long integers than Python's ``int``)."""
+    from sympy.polys.domains import ZZ
+    out = np.empty(len(values), dtype=object)
+    out[:] = [ZZ.dtype(int(v)) for v in values]
+    return out
+
+
 def _poly_mul(a: dict, b: dict) -> dict:
     out: dict = {}
     for ma, va in a.items():
@@ -759,7 +768,7 @@ def _eliminate_by_values(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tupl
         q2s.append({m: v // g for m, v in q2.items() if v})
 
     def values(x, y):
-        pw = _Powers(np.array(x, dtype=object), np.array(y, dtype=object))
+        pw = _Powers(_integers(x), _integers(y))
         powers = (pw[0], pw[1])
         terms = {m: _evaluate(poly, powers) for m, poly in by_arm.items()}
         arms = [tuple(_evaluate(h, powers) for h in polys) for polys in arm_polys]
