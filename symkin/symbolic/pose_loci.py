@@ -854,3 +854,69 @@ def _eliminate_by_values(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tupl
     g = math.gcd(*coeffs.values())
     out = sp.Poly.from_dict({m: c // g for m, c in coeffs.items()}, *xs).as_expr()
     return out, removed
+
+
+# ------------------------------------------------------------------ factoring the locus
+
+
+def factor_list(poly: sp.Poly) -> tuple:
+    """``sp.factor_list(poly)`` for a bivariate locus, with a fast exit for an irreducible one.
+
+    sympy factors a bivariate polynomial by Wang's algorithm, which first searches a prime above
+    the polynomial's Mignotte bound: for the degree-48 Delta locus of a float model (coefficients
+    of ~1000 digits) that search alone takes ~25 s.  Irreducibility is certified first instead
+    (:func:`_certified_irreducible`); only a polynomial not certified goes to sympy.
+    """
+    if len(poly.gens) == 2 and poly.total_degree() > 2 and _certified_irreducible(poly):
+        coeff, prim = poly.clear_denoms()[1].primitive()
+        if prim.LC() < 0:
+            prim = -prim
+        return poly.LC() / prim.LC(), [(prim.set_domain(poly.domain), 1)]
+    return sp.factor_list(poly)
+
+
+def _certified_irreducible(poly: sp.Poly, primes: int = 40) -> bool:
+    """True when ``poly`` (two generators, rational coefficients) is proved irreducible over ℚ.
+
+    With ``n = deg_x F`` and the coefficient of ``xⁿ`` a constant, a factorisation ``F = G H``
+    has ``deg_x G, deg_x H ≥ 1`` (a factor free of x would divide that constant) and constant
+    leading coefficients, so it survives ``y = a``: ``F(x, a)`` irreducible over ℚ proves ``F``
+    irreducible.  ``F(x, a)`` is irreducible when no degree ``0 < k < n`` is a sum of the degrees
+    of its irreducible factors modulo every one of a few primes (distinct-degree factorisation
+    over GF(ℓ), ℓ not dividing the leading coefficient, ``F(x, a)`` squarefree modulo ℓ).  False
+    means "not proved" (then sympy factors it).
+    """
+    from sympy.polys.galoistools import gf_ddf_zassenhaus, gf_from_int_poly, gf_monic, gf_sqf_p
+    from sympy.polys.domains import ZZ
+
+    f = poly.clear_denoms()[1].set_domain(ZZ)
+    n = f.degree(f.gens[0])
+    terms = f.terms()
+    if any(i == n and j > 0 for (i, j), _ in terms) or n < 2:
+        return False
+    possible = None
+    full = (1 << (n + 1)) - 1
+    ell = 100
+    for a in (1, -1):
+        tried = stable = 0
+        while tried < primes and stable < 8:  # a degree left possible by 8 primes in a row: likely a factor
+            ell = int(sp.nextprime(ell))
+            tried += 1
+            coeffs = [0] * (n + 1)
+            for (i, j), c in terms:
+                coeffs[n - i] = (coeffs[n - i] + int(c) % ell * pow(a, j, ell)) % ell
+            if coeffs[0] == 0:
+                continue
+            g = gf_monic(gf_from_int_poly(coeffs, ell), ell, ZZ)[1]
+            if not gf_sqf_p(g, ell, ZZ):
+                continue
+            sums = 1
+            for h, d in gf_ddf_zassenhaus(g, ell, ZZ):
+                for _ in range((len(h) - 1) // d):
+                    sums |= (sums << d) & full
+            before, possible = possible, sums if possible is None else possible & sums
+            if possible == 1 | (1 << n):
+                return True
+            stable = stable + 1 if possible == before else 0
+        possible = None
+    return False
