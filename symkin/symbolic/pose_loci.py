@@ -30,12 +30,43 @@ parallelogram of two bars; :func:`translation_slice`) is sliced at a held height
 orientation hold: ``V`` is its translation, each arm's nodes are written in ``(c, s)`` of its
 angle (:class:`ArmLeg`) and move with the platform through their bar.  ``det(P V)`` is then
 linear in each arm's ``(c, s)``, and :func:`eliminate_arms` removes the angles with the arms'
-closures (resultants), leaving one polynomial in ``(x, y)`` that holds every working mode's
-type-2 curve.  Its size grows with the digits of the model's numbers.
+closures, leaving one polynomial in ``(x, y)`` that holds every working mode's type-2 curve (the
+norm of ``det`` over both placements of every arm: the product over the 8 working modes, times
+powers of nonzero factors).
+
+Elimination by values
+---------------------
+The norm is computed at integer points ``(x, y)`` and interpolated
+(:func:`_eliminate_by_values`, the default): with ``x``, ``y`` numbers, each arm's step is a
+resultant of a quadratic in ``s`` with a polynomial in the other arms' ``(c, s)`` only, all points
+at once (numpy arrays of integers, exact); a degree bound comes from the same steps on degrees, the
+result is interpolated on a triangle of ``(n + 1)(n + 2)/2`` points (``n = 48``: 1225) and checked
+at points off it.  The symbolic elimination (:func:`_eliminate_by_resultants`) swells: its
+intermediate polynomials in ``x, y`` and the other arms' ``(c, s)`` carry the data's digits in every
+coefficient.  Measured on the 120° Delta of ``tests/workspace/truth.py`` (16-digit cos/sin of
+120°, 240°, arm angles from ``arccos``; 2 shared cores): resultants 1 s, 32 s and 85 s for the three
+arms; by values 1.2 s for the norm at 1225 points, about 2.5 s in all (``benchmarks/bench_delta_locus.py``).
+The curve is the same (tested: proportional polynomials on ``examples/delta.json``).
+
+sympy then factors the degree-48 polynomial (coefficients of ~950 digits) by Wang's algorithm,
+whose search for a prime above the Mignotte bound alone took 25 s; :func:`factor_list` first
+certifies irreducibility (distinct-degree factorisations of ``F(x, a)`` modulo small primes,
+0.4 s) and leaves only polynomials it cannot certify to sympy.  ``symkin conditions`` on that
+Delta: 4.9 s (it stopped at the 120 s limit before).
+
+Choices weighed (issue 17 §5): snapping the model's numbers first
+(:mod:`symkin.symbolic.snapping`) does not serve this route: its numbers are node coordinates
+(axes, arm and platform offsets), each snapped to its own denominator near 10³ (711, 811, 1142,
+…) whose common multiple exceeds the floats' common 10¹⁶, and the parallelogram check (each arm's
+two closures equal to the geometry tolerance) already fails on coordinates snapped at 2e-7 of the
+length scale.  python-flint (``fmpz_mpoly``) was not needed, and installing it switches sympy's
+ground types for the whole process.  Fewer eliminations: the chain already uses the rows' arm-wise
+structure (one 2 × 2 resultant per arm); the cost was the symbolic swell, not their number.
 
 The numbers are the model's as written (exact rationals of its floats, no snapping): the
 locus does not rest on rational relations between them, and it equals the float model's
-locus exactly.
+locus exactly (a model in mm is not exactly 1000 times the one in m once its floats are rounded:
+the same curve to the rounding, tested on the roots).
 """
 from __future__ import annotations
 
