@@ -63,6 +63,9 @@ length scale.  python-flint (``fmpz_mpoly``) was not needed, and installing it s
 ground types for the whole process.  Fewer eliminations: the chain already uses the rows' arm-wise
 structure (one 2 × 2 resultant per arm); the cost was the symbolic swell, not their number.
 
+IM: where the three parallelograms' moments ``wᵢ × uᵢ`` are dependent the platform can also turn
+(:func:`constraint_condition`; eliminated the same way, one curve of degree 48).
+
 The numbers are the model's as written (exact rationals of its floats, no snapping): the
 locus does not rest on rational relations between them, and it equals the float model's
 locus exactly (a model in mm is not exactly 1000 times the one in m once its floats are rounded:
@@ -83,7 +86,8 @@ from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
 from symkin.tolerances import Tolerances
 
-__all__ = ["ArmLeg", "PoseSlice", "eliminate_arms", "pose_condition", "pose_rows", "pose_slice", "translation_slice"]
+__all__ = ["ArmLeg", "PoseSlice", "constraint_condition", "eliminate_arms", "factor_list", "pose_condition", "pose_rows",
+           "pose_slice", "translation_slice"]
 
 
 def _q(v: float) -> sp.Rational:
@@ -185,6 +189,7 @@ class PoseSlice:
                 n0, u0 = n, u
             elif _differ(closure - leg.closure, (c, s), self.variables, mech.length_scale, self.geometry):
                 raise _NotTranslating(f"the bars of arm {arm!r} to {self.link!r} do not form a parallelogram")
+        leg.bars = bars
         self.legs.append(leg)
         # θ̇ |e|-scaled: μ = u·v / (u·τ), u = C − B of the first bar; each arm node moves with μ τ
         den = leg.reduce(u0.dot(taus[n0]))
@@ -385,6 +390,7 @@ class ArmLeg:
 
     def __init__(self, link: str, c: sp.Symbol, s: sp.Symbol, e2: sp.Rational, closure: sp.Expr):
         self.link, self.c, self.s, self.e2, self.closure = link, c, s, e2, closure
+        self.bars: list = []  # (arm node, platform node) of each bar of its parallelogram
 
     def reduce(self, expr: sp.Expr) -> sp.Expr:
         """``c² → 1 − E s²`` until ``expr`` has degree ≤ 1 in ``c``."""
@@ -430,6 +436,34 @@ def translation_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: lis
                          geometry=geometry)
     except _NotTranslating:
         return None
+
+
+def constraint_condition(ps: PoseSlice) -> sp.Expr:
+    """The condition under which a translating platform can also turn: ``det[wᵢ × uᵢ]``, rows per arm,
+    ``uᵢ = C − B`` along its first bar and ``wᵢ`` the parallelogram's side ``C' − C`` on the platform.
+
+    With the inputs locked, the two bars of parallelogram i allow a platform twist ``(v, ω)`` with
+    ``uᵢ·(v + ω × (Cᵢ − O)) = 0`` for both ``C``, so ``ω·(wᵢ × uᵢ) = 0``: where the three moments
+    ``wᵢ × uᵢ`` are dependent the platform turns (the Delta's constraint singularity); the mechanism
+    then has one motion more than its mobility: ``symkin.analyze`` reports IM there (4 motions;
+    tested on an asymmetric float Delta).  The determinant is linear in each arm's ``(c, s)``, and
+    :func:`eliminate_arms` gives its curve in ``(x, y)`` over every working mode (degree 48,
+    irreducible, for the test models).  The translation-only ``det(P V)`` does not contain this
+    curve.  ``symkin conditions`` does not use it yet (its IM locus on this route is reported as
+    not derived).
+    """
+    if not ps.legs or any(len(leg.bars) < 2 for leg in ps.legs):
+        raise SymkinError("the constraint condition is defined for a platform held to translation by parallelograms")
+    rows = []
+    for leg in ps.legs:
+        (b, c), (_, c2) = leg.bars[:2]
+        u = ps.position[c] - ps.position[b]
+        w = ps.position[c2] - ps.position[c]
+        rows.append(list(w.cross(u)))
+    gens = ps.variables + tuple(x for leg in ps.legs for x in (leg.c, leg.s))
+    dom = sp.QQ[gens]
+    m = DomainMatrix([[dom.from_sympy(sp.expand(e)) for e in row] for row in rows], (3, 3), dom)
+    return sp.expand(dom.to_sympy(m.det()))
 
 
 def _by_power(p, i: int, ring) -> dict:

@@ -204,3 +204,71 @@ def test_general_delta_conditions_end_to_end():
     assert [f.degree for f in inp.factors] == [48] and not inp.trivial
     assert [f.degree for f in loci[Kind.DKP_OUTPUT].factors] == [4, 4, 4]
     assert any("IM locus: not derived" in s for s in loci.skipped)
+
+
+# ------------------------------------------------------------ the constraint singularity (IM)
+
+
+def delta_pose_nodes(mech: symkin.Mechanism, x: float, y: float, z: float, mode: int):
+    """The model's nodes with P at (x, y, z) in working mode ``mode`` (bit k: leg k's elbow), by geometry;
+    None where a leg does not reach."""
+    q = {n: np.array(v, float) for n, v in mech.nodes}
+    shift = np.array([x, y, z]) - q["P"]
+    nodes = {n: v for n, v in q.items()}
+    for n in ("P", "C1a", "C1b", "C2a", "C2b", "C3a", "C3b"):
+        nodes[n] = q[n] + shift
+    for k in (1, 2, 3):
+        a, t = q[f"A{k}"], q[f"A{k}b"] - q[f"A{k}"]
+        t = t / np.linalg.norm(t)
+
+        def turned(node, th):
+            rr = q[node] - a
+            par, perp = t * (t @ rr), rr - t * (t @ rr)
+            return a + par + math.cos(th) * perp + math.sin(th) * np.cross(t, perp)
+
+        rr = q[f"B{k}a"] - a
+        par, perp = t * (t @ rr), rr - t * (t @ rr)
+        side = np.cross(t, perp)
+        w = nodes[f"C{k}a"] - a - par
+        l2 = np.sum((q[f"C{k}a"] - q[f"B{k}a"]) ** 2)
+        alpha, beta, gamma = 2 * (w @ perp), 2 * (w @ side), w @ w + perp @ perp - l2
+        rho = math.hypot(alpha, beta)
+        if abs(gamma) > rho:
+            return None
+        th = math.atan2(beta, alpha) + (1 if mode >> (3 - k) & 1 == 0 else -1) * math.acos(gamma / rho)
+        nodes[f"B{k}a"], nodes[f"B{k}b"] = turned(f"B{k}a", th), turned(f"B{k}b", th)
+    return {n: [float(c) for c in v] for n, v in nodes.items()}
+
+
+def test_constraint_condition_is_where_the_platform_can_turn_im():
+    """The eliminated det[w_i × u_i] (asymmetric float Delta): one irreducible curve of degree 48; at its
+    real roots on x = const one working mode is IM for the numeric core (4 motions, the platform turns),
+    and at points 1e-3 off the roots none is."""
+    from symkin.symbolic.pose_loci import constraint_condition, factor_list
+
+    mech = delta_asymmetric()
+    coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in ("velocity:P.x", "velocity:P.y")]
+    held = parse_label(mech, "velocity:P.z", "coordinate", _LOCUS_LABELS)
+    ps = translation_slice(mech, coords, [(held, None)], Tolerances().geometry)
+    poly, _ = eliminate_arms(constraint_condition(ps), ps)
+    _, fl = factor_list(sp.Poly(poly, XP, YP, domain="QQ"))
+    assert [(f.total_degree(), m) for f, m in fl] == [(48, 1)]
+    hits = misses = 0
+    for xv in ("-1.0", "0.6"):
+        for y in _real_roots_y(poly, xv):
+            kinds = []
+            for mode in range(8):
+                nodes = delta_pose_nodes(mech, float(xv), y, Z, mode)
+                if nodes is not None:
+                    a = symkin.analyze(mech.with_coordinates(nodes))
+                    kinds.append((a.dof, Kind.IM in a.types))
+            assert (4, True) in kinds, (xv, y, kinds)
+            hits += 1
+            for moved in (y - 1e-3, y + 1e-3):
+                for mode in range(8):
+                    nodes = delta_pose_nodes(mech, float(xv), moved, Z, mode)
+                    if nodes is not None:
+                        a = symkin.analyze(mech.with_coordinates(nodes))
+                        assert a.dof == 3 and Kind.IM not in a.types, (xv, moved, mode, a.types)
+                        misses += 1
+    assert hits >= 4 and misses >= 16
