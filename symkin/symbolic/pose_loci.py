@@ -940,7 +940,7 @@ def factor_list(poly: sp.Poly) -> tuple:
     return sp.factor_list(poly)
 
 
-def _certified_irreducible(poly: sp.Poly, primes: int = 40) -> bool:
+def _certified_irreducible(poly: sp.Poly, primes: int = 20) -> bool:
     """True when ``poly`` (two generators, rational coefficients) is proved irreducible over ℚ.
 
     With ``n = deg_x F`` and the coefficient of ``xⁿ`` a constant, a factorisation ``F = G H``
@@ -962,7 +962,7 @@ def _certified_irreducible(poly: sp.Poly, primes: int = 40) -> bool:
     possible = None
     full = (1 << (n + 1)) - 1
     ell = 100
-    for a in (1, -1):
+    for a in (1, -1, 2, 3):
         tried = stable = 0
         while tried < primes and stable < 8:  # a degree left possible by 8 primes in a row: likely a factor
             ell = int(sp.nextprime(ell))

@@ -272,3 +272,16 @@ def test_constraint_condition_is_where_the_platform_can_turn_im():
                         assert a.dof == 3 and Kind.IM not in a.types, (xv, moved, mode, a.types)
                         misses += 1
     assert hits >= 4 and misses >= 16
+
+
+def test_factor_list_agrees_with_sympy():
+    """The certified shortcut gives sympy's answer for an irreducible polynomial; a product (not
+    certifiable) goes to sympy."""
+    from symkin.symbolic.pose_loci import _certified_irreducible, factor_list
+
+    irreducible = sp.Poly(sp.Rational(3, 7) * (6 * XP ** 4 + 4 * XP ** 2 * YP ** 2 - 2 * YP ** 3 + 8 * XP + 2),
+                          XP, YP, domain="QQ")
+    product = sp.Poly((XP ** 2 + YP ** 2 - 1) * (XP ** 3 - 2 * YP ** 2 + XP * YP + 5), XP, YP, domain="QQ")
+    assert _certified_irreducible(irreducible) and not _certified_irreducible(product)
+    for p in (irreducible, product):
+        assert factor_list(p) == sp.factor_list(p)
