@@ -560,7 +560,10 @@ def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None,
         return _eliminate_by_resultants(det, ps, poll)
     if method != "values":
         raise ValueError(f"unknown elimination method {method!r}; use one of {', '.join(METHODS)}")
-    return _eliminate_by_values(det, ps, poll)
+    try:
+        return _eliminate_by_values(det, ps, poll)
+    except _ByValuesFailed:  # not met on any model so far; the reference is slower but symbolic throughout
+        return _eliminate_by_resultants(det, ps, poll)
 
 
 class _Degree:
@@ -623,16 +626,20 @@ def _poly_add(a: dict, b: dict, ka=1, kb=1) -> dict:
     return out
 
 
+class _ByValuesFailed(Exception):
+    """The elimination by values met what its derivation excludes (a quotient not exact, an
+    interpolant that misses a value): :func:`eliminate_arms` then takes the resultants."""
+
+
 def _exact_div(value, divisor):
-    """``value / divisor`` for values known to be multiples (object arrays of ints, or degrees);
-    a quotient that is not exact falls back to fractions (never expected: checked)."""
+    """``value / divisor`` for values known to be multiples (object arrays of integers, or degrees);
+    checked."""
     if isinstance(value, _Degree):
         return value // divisor
     q = value // divisor
-    if (q * divisor == value).all():
-        return q
-    from fractions import Fraction
-    return np.array([Fraction(v) / Fraction(d) for v, d in zip(value, divisor)], dtype=object)
+    if not (q * divisor == value).all():
+        raise _ByValuesFailed("a quotient that should be exact is not")
+    return q
 
 
 def _norm_chain(terms: dict, arms: list, poll) -> object:
@@ -792,9 +799,10 @@ def _eliminate_by_values(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tupl
     powers of each arm's ``q² + E p²`` (no real curve: zero only where ``p = q = 0``) that divide
     ``V`` are found on a random line (``V`` there interpolated exactly, divided as a univariate
     polynomial), divided out point by point, and the quotient ``W`` is interpolated on a triangle
-    of ``(n + 1)(n + 2)/2`` points, ``n`` its degree.  ``W`` is then checked at points off the
-    triangle against the values; a mismatch (a line that met a factor's curve twice) retries with
-    the degree bound.
+    of ``(n + 1)(n + 2)/2`` points, ``n`` its degree on that line.  ``W`` is then checked at
+    points off the triangle against the values; a mismatch (a line along which ``W`` has a lower
+    degree, or which meets another factor where it meets ``q² + E p²``) retries with the degree
+    bound, and a second one raises :class:`_ByValuesFailed` (then the resultants are used).
     """
     import random
 
@@ -905,17 +913,18 @@ def _eliminate_by_values(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tupl
         coeffs = _interpolate_triangle(tri, n, gx, gy)
         poll()
         # check off the triangle
-        cx = [chooser.randint(-1000, 1000) for _ in range(3)]
-        cy = [chooser.randint(-1000, 1000) for _ in range(3)]
-        if not admissible(cx, cy):
-            continue
+        while True:
+            cx = [chooser.randint(-1000, 1000) for _ in range(3)]
+            cy = [chooser.randint(-1000, 1000) for _ in range(3)]
+            if admissible(cx, cy):
+                break
         want = quotient(cx, cy)
         scale = math.factorial(n) ** 2
         got = [sum(c * X ** i * Y ** j for (i, j), c in coeffs.items()) for X, Y in zip(cx, cy)]
         if all(g == scale * w for g, w in zip(got, want)):
             break
     else:
-        raise SymkinError("the arms' elimination by values did not reproduce its own values (internal error)")
+        raise _ByValuesFailed("the interpolated polynomial does not reproduce the values off its triangle")
     g = math.gcd(*coeffs.values())
     out = sp.Poly.from_dict({m: c // g for m, c in coeffs.items()}, *xs).as_expr()
     return out, removed
