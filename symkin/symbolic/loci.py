@@ -1023,9 +1023,9 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
                     "form where its leg has a length (|C - A| > 0), and moves with the platform's six twists: "
                     "L = F on the slice")
             if ps.legs:
-                skipped.append("IM locus: not derived on the translating-platform route (each arm is placed by its "
-                               "angle; an IM configuration of the Delta needs a bar of zero length or an arm on its "
-                               "axis)")
+                skipped.append("IM locus: not derived on the translating-platform route (its curve is where the "
+                               "platform can also turn, the parallelograms' moments dependent: "
+                               "symkin.symbolic.pose_loci.constraint_condition, not yet part of this command)")
                 continue
             loci.append(Locus(kind, (), (), time.perf_counter() - t0, text))
             continue
