@@ -28,16 +28,21 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests" / "workspace"))
 
-import sympy as sp  # noqa: E402
+import sympy as sp
 
-from symkin.kinds import Kind  # noqa: E402
-from symkin.model.labels import parse_label  # noqa: E402
-from symkin.model.mechanism import Mechanism  # noqa: E402
-from symkin.model.model_file import read_model  # noqa: E402
-from symkin.symbolic.loci import _LOCUS_LABELS  # noqa: E402
-from symkin.symbolic.model import symbolic_model  # noqa: E402
-from symkin.symbolic.pose_loci import eliminate_arms, factor_list, pose_condition, translation_slice  # noqa: E402
-from symkin.tolerances import Tolerances  # noqa: E402
+from symkin.kinds import Kind
+from symkin.model.labels import parse_label
+from symkin.model.mechanism import Mechanism
+from symkin.model.model_file import read_model
+from symkin.symbolic.loci import _LOCUS_LABELS
+from symkin.symbolic.model import symbolic_model
+from symkin.symbolic.pose_loci import (
+    eliminate_arms,
+    factor_list,
+    pose_condition,
+    translation_slice,
+)
+from symkin.tolerances import Tolerances
 
 
 def _model(name: str) -> Mechanism:
@@ -111,7 +116,7 @@ def main(argv=None) -> int:
         fac = _limited(name, "factor", args.limit)
         same = ""
         if old is not None:
-            q = sp.Poly(eval(old[1], dict(vars(sp))), *ps.variables)  # noqa: S307 (sympy's srepr)
+            q = sp.Poly(eval(old[1], dict(vars(sp))), *ps.variables)
             same = "same curve" if (p * q.LC() - q * p.LC()).is_zero else "DIFFERENT"
         t_old = f"{old[0]:.1f}" if old else f"> {args.limit:g}"
         r_old = f"{old[0] / t_val:.0f}x" if old else f"> {args.limit / t_val:.0f}x"

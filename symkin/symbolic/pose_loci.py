@@ -809,7 +809,7 @@ def _eliminate_by_values(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tupl
     xs = ps.variables
     legs = ps.legs
     syms = [x for leg in legs for x in (leg.c, leg.s)]
-    rng, *gens = sp.ring(list(xs) + syms, sp.QQ)
+    rng, *_ = sp.ring(list(xs) + syms, sp.QQ)
     f = rng(sp.expand(det))
     if not f:
         return sp.Integer(0), []
@@ -942,7 +942,7 @@ def factor_list(poly: sp.Poly) -> tuple:
     (:func:`_certified_irreducible`); only a polynomial not certified goes to sympy.
     """
     if len(poly.gens) == 2 and poly.total_degree() > 2 and _certified_irreducible(poly):
-        coeff, prim = poly.clear_denoms()[1].primitive()
+        _, prim = poly.clear_denoms()[1].primitive()
         if prim.LC() < 0:
             prim = -prim
         return poly.LC() / prim.LC(), [(prim.set_domain(poly.domain), 1)]
@@ -960,8 +960,8 @@ def _certified_irreducible(poly: sp.Poly, primes: int = 20) -> bool:
     over GF(ℓ), ℓ not dividing the leading coefficient, ``F(x, a)`` squarefree modulo ℓ).  False
     means "not proved" (then sympy factors it).
     """
-    from sympy.polys.galoistools import gf_ddf_zassenhaus, gf_from_int_poly, gf_monic, gf_sqf_p
     from sympy.polys.domains import ZZ
+    from sympy.polys.galoistools import gf_ddf_zassenhaus, gf_from_int_poly, gf_monic, gf_sqf_p
 
     f = poly.clear_denoms()[1].set_domain(ZZ)
     n = f.degree(f.gens[0])

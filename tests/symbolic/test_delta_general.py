@@ -27,14 +27,20 @@ from symkin.kinds import Kind
 from symkin.model.labels import parse_label
 from symkin.symbolic.loci import _LOCUS_LABELS, implicit_loci
 from symkin.symbolic.model import symbolic_model
-from symkin.symbolic.pose_loci import (_interpolate_triangle, _newton_1d, eliminate_arms, pose_condition,
-                                       translation_slice)
+from symkin.symbolic.pose_loci import (
+    _interpolate_triangle,
+    _newton_1d,
+    eliminate_arms,
+    factor_list,
+    pose_condition,
+    translation_slice,
+)
 from symkin.tolerances import Tolerances
 from tests.symbolic.test_spatial_loci import delta_mode_dets
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "workspace"))
-from truth import Delta  # noqa: E402
+from truth import Delta
 
 XP, YP = sp.symbols("x_P y_P", real=True)
 Z = -2.2
@@ -94,10 +100,12 @@ def _real_roots_y(poly: sp.Expr, x) -> list[float]:
 
 
 def test_general_delta_locus_has_degree_48_and_float_data(general):
-    mech, poly, _ = general
+    _, poly, _ = general
     p = sp.Poly(poly, XP, YP)
     assert p.total_degree() == 48 and p.degree(XP) == p.degree(YP) == 48
     assert max(len(str(abs(c))) for c in p.coeffs()) > 500  # the 16-digit data, not snapped
+    _, fl = factor_list(sp.Poly(poly, XP, YP, domain="QQ"))  # irreducible (certified)
+    assert [(f.total_degree(), m) for f, m in fl] == [(48, 1)]
 
 
 LINES = ("-1.0", "-0.6", "0.1")  # x = const: each crosses type-2 curves of both models inside the workspace
@@ -221,7 +229,7 @@ def delta_pose_nodes(mech: symkin.Mechanism, x: float, y: float, z: float, mode:
         a, t = q[f"A{k}"], q[f"A{k}b"] - q[f"A{k}"]
         t = t / np.linalg.norm(t)
 
-        def turned(node, th):
+        def turned(node, th, a=a, t=t):
             rr = q[node] - a
             par, perp = t * (t @ rr), rr - t * (t @ rr)
             return a + par + math.cos(th) * perp + math.sin(th) * np.cross(t, perp)
@@ -244,7 +252,7 @@ def test_constraint_condition_is_where_the_platform_can_turn_im():
     """The eliminated det[w_i × u_i] (asymmetric float Delta): one irreducible curve of degree 48; at its
     real roots on x = const one working mode is IM for the numeric core (4 motions, the platform turns),
     and at points 1e-3 off the roots none is."""
-    from symkin.symbolic.pose_loci import constraint_condition, factor_list
+    from symkin.symbolic.pose_loci import constraint_condition
 
     mech = delta_asymmetric()
     coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in ("velocity:P.x", "velocity:P.y")]
@@ -277,7 +285,7 @@ def test_constraint_condition_is_where_the_platform_can_turn_im():
 def test_factor_list_agrees_with_sympy():
     """The certified shortcut gives sympy's answer for an irreducible polynomial; a product (not
     certifiable) goes to sympy."""
-    from symkin.symbolic.pose_loci import _certified_irreducible, factor_list
+    from symkin.symbolic.pose_loci import _certified_irreducible
 
     irreducible = sp.Poly(sp.Rational(3, 7) * (6 * XP ** 4 + 4 * XP ** 2 * YP ** 2 - 2 * YP ** 3 + 8 * XP + 2),
                           XP, YP, domain="QQ")
