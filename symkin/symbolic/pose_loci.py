@@ -52,7 +52,7 @@ sympy then factors the degree-48 polynomial (coefficients of ~950 digits) by Wan
 whose search for a prime above the Mignotte bound alone took 25 s; :func:`factor_list` first
 certifies irreducibility (distinct-degree factorisations of ``F(x, a)`` modulo small primes,
 0.4 s) and leaves only polynomials it cannot certify to sympy.  ``symkin conditions`` on that
-Delta: 4.9 s (it stopped at the 120 s limit before).
+Delta: 5–8 s in all (it stopped at its 120 s limit before, the DKP-input locus not derived).
 
 Choices weighed (issue 17 §5): snapping the model's numbers first
 (:mod:`symkin.symbolic.snapping`) does not serve this route: its numbers are node coordinates
