@@ -870,9 +870,9 @@ def _radius_text(r, sys: _System, centre: str | None = None) -> str:
 
 
 # ====================================================================== the entry point
-def _factors(poly: sp.Expr, xs, sys: _System) -> tuple[list, list]:
+def _factors(poly: sp.Expr, xs, sys: _System, factor_list=sp.factor_list) -> tuple[list, list]:
     geometric, trivial = [], []
-    _, fl = sp.factor_list(sp.Poly(poly, *xs, domain="QQ"))
+    _, fl = factor_list(sp.Poly(poly, *xs, domain="QQ"))
     for f, m in fl:
         expr = f.as_expr()
         lc = sp.Poly(expr, *xs).LC()
@@ -1007,7 +1007,7 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
 def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
     """The loci of a spatial platform at a held orientation (:mod:`symkin.symbolic.pose_loci`)."""
     from symkin.symbolic.model import symbolic_model
-    from symkin.symbolic.pose_loci import eliminate_arms, pose_condition
+    from symkin.symbolic.pose_loci import eliminate_arms, factor_list, pose_condition
 
     xs = ps.variables
     face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
@@ -1023,9 +1023,9 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
                     "form where its leg has a length (|C - A| > 0), and moves with the platform's six twists: "
                     "L = F on the slice")
             if ps.legs:
-                skipped.append("IM locus: not derived on the translating-platform route (each arm is placed by its "
-                               "angle; an IM configuration of the Delta needs a bar of zero length or an arm on its "
-                               "axis)")
+                skipped.append("IM locus: not derived on the translating-platform route (its curve is where the "
+                               "platform can also turn, the parallelograms' moments dependent: "
+                               "symkin.symbolic.pose_loci.constraint_condition, not yet part of this command)")
                 continue
             loci.append(Locus(kind, (), (), time.perf_counter() - t0, text))
             continue
@@ -1044,13 +1044,12 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
                                       "the condition holds on the whole slice", True))
                     continue
                 total = sp.Mul(det, *contents)
-                geometric, trivial = (_with_normalised(fs, xs) for fs in _factors(total, xs, sys))
+                geometric, trivial = (_with_normalised(fs, xs) for fs in _factors(total, xs, sys, factor_list))
         except DerivationTimeout as exc:
             text = str(exc) if "locus" in str(exc) else f"{kind} locus: {exc}"
             if ps.legs:
                 text += ("; the arms' elimination grows with the digits of the model's numbers (exact rationals of "
-                         "its floats: 16 digits for cos 120 deg), a model typed with short decimals derives in "
-                         "seconds")
+                         "its floats)")
             skipped.append(text)
             continue
         except (LociError, SymkinError) as exc:

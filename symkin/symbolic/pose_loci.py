@@ -30,17 +30,52 @@ parallelogram of two bars; :func:`translation_slice`) is sliced at a held height
 orientation hold: ``V`` is its translation, each arm's nodes are written in ``(c, s)`` of its
 angle (:class:`ArmLeg`) and move with the platform through their bar.  ``det(P V)`` is then
 linear in each arm's ``(c, s)``, and :func:`eliminate_arms` removes the angles with the arms'
-closures (resultants), leaving one polynomial in ``(x, y)`` that holds every working mode's
-type-2 curve.  Its size grows with the digits of the model's numbers.
+closures, leaving one polynomial in ``(x, y)`` that holds every working mode's type-2 curve (the
+norm of ``det`` over both placements of every arm: the product over the 8 working modes, times
+powers of nonzero factors).
+
+Elimination by values
+---------------------
+The norm is computed at integer points ``(x, y)`` and interpolated
+(:func:`_eliminate_by_values`, the default): with ``x``, ``y`` numbers, each arm's step is a
+resultant of a quadratic in ``s`` with a polynomial in the other arms' ``(c, s)`` only, all points
+at once (numpy arrays of integers, exact); a degree bound comes from the same steps on degrees, the
+result is interpolated on a triangle of ``(n + 1)(n + 2)/2`` points (``n = 48``: 1225) and checked
+at points off it.  The symbolic elimination (:func:`_eliminate_by_resultants`) swells: its
+intermediate polynomials in ``x, y`` and the other arms' ``(c, s)`` carry the data's digits in every
+coefficient.  Measured on the 120° Delta of ``tests/workspace/truth.py`` (16-digit cos/sin of
+120°, 240°, arm angles from ``arccos``; 2 shared cores): resultants 1 s, 32 s and 85 s for the three
+arms; by values 1.2 s for the norm at 1225 points, about 2.5 s in all (``benchmarks/bench_delta_locus.py``).
+The curve is the same (tested: proportional polynomials on ``examples/delta.json``).
+
+sympy then factors the degree-48 polynomial (coefficients of ~950 digits) by Wang's algorithm,
+whose search for a prime above the Mignotte bound alone took 25 s; :func:`factor_list` first
+certifies irreducibility (distinct-degree factorisations of ``F(x, a)`` modulo small primes,
+0.4 s) and leaves only polynomials it cannot certify to sympy.  ``symkin conditions`` on that
+Delta: 5–8 s in all (it stopped at its 120 s limit before, the DKP-input locus not derived).
+
+Choices weighed (issue 17 §5): snapping the model's numbers first
+(:mod:`symkin.symbolic.snapping`) does not serve this route: its numbers are node coordinates
+(axes, arm and platform offsets), each snapped to its own denominator near 10³ (711, 811, 1142,
+…) whose common multiple exceeds the floats' common 10¹⁶, and the parallelogram check (each arm's
+two closures equal to the geometry tolerance) already fails on coordinates snapped at 2e-7 of the
+length scale.  python-flint (``fmpz_mpoly``) was not needed, and installing it switches sympy's
+ground types for the whole process.  Fewer eliminations: the chain already uses the rows' arm-wise
+structure (one 2 × 2 resultant per arm); the cost was the symbolic swell, not their number.
+
+IM: where the three parallelograms' moments ``wᵢ × uᵢ`` are dependent the platform can also turn
+(:func:`constraint_condition`; eliminated the same way, one curve of degree 48).
 
 The numbers are the model's as written (exact rationals of its floats, no snapping): the
 locus does not rest on rational relations between them, and it equals the float model's
-locus exactly.
+locus exactly (a model in mm is not exactly 1000 times the one in m once its floats are rounded:
+the same curve to the rounding, tested on the roots).
 """
 from __future__ import annotations
 
 import math
 
+import numpy as np
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
@@ -51,7 +86,8 @@ from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
 from symkin.tolerances import Tolerances
 
-__all__ = ["ArmLeg", "PoseSlice", "eliminate_arms", "pose_condition", "pose_rows", "pose_slice", "translation_slice"]
+__all__ = ["ArmLeg", "PoseSlice", "constraint_condition", "eliminate_arms", "factor_list", "pose_condition", "pose_rows",
+           "pose_slice", "translation_slice"]
 
 
 def _q(v: float) -> sp.Rational:
@@ -153,6 +189,7 @@ class PoseSlice:
                 n0, u0 = n, u
             elif _differ(closure - leg.closure, (c, s), self.variables, mech.length_scale, self.geometry):
                 raise _NotTranslating(f"the bars of arm {arm!r} to {self.link!r} do not form a parallelogram")
+        leg.bars = bars
         self.legs.append(leg)
         # θ̇ |e|-scaled: μ = u·v / (u·τ), u = C − B of the first bar; each arm node moves with μ τ
         den = leg.reduce(u0.dot(taus[n0]))
@@ -353,6 +390,7 @@ class ArmLeg:
 
     def __init__(self, link: str, c: sp.Symbol, s: sp.Symbol, e2: sp.Rational, closure: sp.Expr):
         self.link, self.c, self.s, self.e2, self.closure = link, c, s, e2, closure
+        self.bars: list = []  # (arm node, platform node) of each bar of its parallelogram
 
     def reduce(self, expr: sp.Expr) -> sp.Expr:
         """``c² → 1 − E s²`` until ``expr`` has degree ≤ 1 in ``c``."""
@@ -400,6 +438,34 @@ def translation_slice(mech: Mechanism, coords: list[CoordinateLabel], holds: lis
         return None
 
 
+def constraint_condition(ps: PoseSlice) -> sp.Expr:
+    """The condition under which a translating platform can also turn: ``det[wᵢ × uᵢ]``, rows per arm,
+    ``uᵢ = C − B`` along its first bar and ``wᵢ`` the parallelogram's side ``C' − C`` on the platform.
+
+    With the inputs locked, the two bars of parallelogram i allow a platform twist ``(v, ω)`` with
+    ``uᵢ·(v + ω × (Cᵢ − O)) = 0`` for both ``C``, so ``ω·(wᵢ × uᵢ) = 0``: where the three moments
+    ``wᵢ × uᵢ`` are dependent the platform turns (the Delta's constraint singularity); the mechanism
+    then has one motion more than its mobility: ``symkin.analyze`` reports IM there (4 motions;
+    tested on an asymmetric float Delta).  The determinant is linear in each arm's ``(c, s)``, and
+    :func:`eliminate_arms` gives its curve in ``(x, y)`` over every working mode (degree 48,
+    irreducible, for the test models).  The translation-only ``det(P V)`` does not contain this
+    curve.  ``symkin conditions`` does not use it yet (its IM locus on this route is reported as
+    not derived).
+    """
+    if not ps.legs or any(len(leg.bars) < 2 for leg in ps.legs):
+        raise SymkinError("the constraint condition is defined for a platform held to translation by parallelograms")
+    rows = []
+    for leg in ps.legs:
+        (b, c), (_, c2) = leg.bars[:2]
+        u = ps.position[c] - ps.position[b]
+        w = ps.position[c2] - ps.position[c]
+        rows.append(list(w.cross(u)))
+    gens = ps.variables + tuple(x for leg in ps.legs for x in (leg.c, leg.s))
+    dom = sp.QQ[gens]
+    m = DomainMatrix([[dom.from_sympy(sp.expand(e)) for e in row] for row in rows], (3, 3), dom)
+    return sp.expand(dom.to_sympy(m.det()))
+
+
 def _by_power(p, i: int, ring) -> dict:
     """``p = Σ_k C_k g_i^k``: ``{k: C_k}`` (ring elements free of generator ``i``)."""
     out: dict = {}
@@ -410,7 +476,7 @@ def _by_power(p, i: int, ring) -> dict:
     return out
 
 
-def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.Expr, list[sp.Expr]]:
+def _eliminate_by_resultants(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.Expr, list[sp.Expr]]:
     """The polynomial in the variables whose zeros are the points where ``det`` vanishes for some
     real or complex placement of the arms, and the nonzero factors divided out.
 
@@ -473,3 +539,458 @@ def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.E
                 f = quo
                 removed.append(h.as_expr())
     return f.as_expr(), removed
+
+
+# ------------------------------------------------------- the arms' elimination by values (the default)
+
+METHODS = ("values", "resultants")
+
+
+def eliminate_arms(det: sp.Expr, ps: PoseSlice, poll=lambda: None,
+                   method: str = "values") -> tuple[sp.Expr, list[sp.Expr]]:
+    """The polynomial in the variables whose zeros are the points where ``det`` vanishes for some
+    real or complex placement of the arms, and the factors divided out.
+
+    ``method="values"`` (the default): the same norm computed at integer points and interpolated
+    (:func:`_eliminate_by_values`); ``"resultants"``: the symbolic elimination
+    (:func:`_eliminate_by_resultants`), kept as the reference the tests and the benchmark compare
+    with.  Both give the same curve up to a constant factor.
+    """
+    if method == "resultants":
+        return _eliminate_by_resultants(det, ps, poll)
+    if method != "values":
+        raise ValueError(f"unknown elimination method {method!r}; use one of {', '.join(METHODS)}")
+    try:
+        return _eliminate_by_values(det, ps, poll)
+    except _ByValuesFailed:  # not met on any model so far; the reference is slower but symbolic throughout
+        return _eliminate_by_resultants(det, ps, poll)
+
+
+class _Degree:
+    """A degree bound standing in for a value in :func:`_norm_chain`: ``+``/``−`` take the maximum,
+    ``×`` adds, ``//`` (by an exact divisor of known degree) subtracts; an integer factor keeps it."""
+
+    __slots__ = ("d",)
+
+    def __init__(self, d: int):
+        self.d = d
+
+    def __add__(self, other):
+        return _Degree(max(self.d, other.d)) if isinstance(other, _Degree) else self
+
+    __radd__ = __sub__ = __rsub__ = __add__
+
+    def __mul__(self, other):
+        return _Degree(self.d + other.d) if isinstance(other, _Degree) else self
+
+    __rmul__ = __mul__
+
+    def __neg__(self):
+        return self
+
+    def __floordiv__(self, other):
+        return _Degree(self.d - other.d)
+
+
+def _integral(expr: sp.Expr, gens) -> dict:
+    """``expr`` times the lcm of its coefficients' denominators: ``{monomial: int}``."""
+    rng, *_ = sp.ring(gens, sp.QQ)
+    f = rng(sp.expand(expr))
+    den = math.lcm(*[int(c.denominator) for c in f.values()]) if f else 1
+    return {m: int(c * den) for m, c in f.items()}
+
+
+def _integers(values) -> np.ndarray:
+    """An object array of the ground integers of sympy's ``ZZ`` (gmpy2's ``mpz`` when installed: faster
+    products of long integers than Python's ``int``)."""
+    from sympy.polys.domains import ZZ
+    out = np.empty(len(values), dtype=object)
+    out[:] = [ZZ.dtype(int(v)) for v in values]
+    return out
+
+
+def _poly_mul(a: dict, b: dict) -> dict:
+    out: dict = {}
+    for ma, va in a.items():
+        for mb, vb in b.items():
+            m = tuple(i + j for i, j in zip(ma, mb))
+            out[m] = out[m] + va * vb if m in out else va * vb
+    return out
+
+
+def _poly_add(a: dict, b: dict, ka=1, kb=1) -> dict:
+    """``ka a + kb b`` (``ka``, ``kb`` values)."""
+    out = {m: ka * v for m, v in a.items()}
+    for m, v in b.items():
+        out[m] = out[m] + kb * v if m in out else kb * v
+    return out
+
+
+class _ByValuesFailed(Exception):
+    """The elimination by values met what its derivation excludes (a quotient not exact, an
+    interpolant that misses a value): :func:`eliminate_arms` then takes the resultants."""
+
+
+def _exact_div(value, divisor):
+    """``value / divisor`` for values known to be multiples (object arrays of integers, or degrees);
+    checked."""
+    if isinstance(value, _Degree):
+        return value // divisor
+    q = value // divisor
+    if not (q * divisor == value).all():
+        raise _ByValuesFailed("a quotient that should be exact is not")
+    return q
+
+
+def _norm_chain(terms: dict, arms: list, poll) -> object:
+    """``Π_k Q₂ₖ^{d_k} G(pt₁)G(pt₂)`` arm after arm: the norm of ``det`` over both placements of
+    every arm, as a value (an array over points, or a :class:`_Degree`).
+
+    ``terms``: ``{exponents of (c₁, s₁, …, cₙ, sₙ): value}``; ``arms``: per arm ``(p, q, r, Q₂, Q₁,
+    Q₀)`` values, the closure ``p c + q s + r`` and ``Q(s) = Q₂ s² + Q₁ s + Q₀`` (its relation with
+    ``c = −(q s + r)/p``).  With ``d`` the degree of the form in the arm's ``(c, s)``, homogenised by
+    ``(c, s, 1) → (−(q s + r), p s, p)`` to ``g(s) = pᵈ G``, reduced modulo ``Q`` to ``a s + b``
+    (times ``Q₂^{d−1}``): ``Q₀ a² − Q₁ a b + Q₂ b² = Q₂^{2d−1} Π g(sₖ)``, divided by
+    ``Q₂^{d−1} p^{2d}`` (exactly: a polynomial in the data and the other arms' variables).
+    """
+    f = dict(terms)
+    for i, (p, q, r, q2, q1, q0) in enumerate(arms):
+        ci, si = 2 * i, 2 * i + 1
+        d = max((m[ci] + m[si] for m in f), default=0)
+        if d == 0:
+            continue
+        pw = {"p": [1, p], "q": [1, q], "r": [1, r]}
+        for k in range(2, d + 1):
+            for key, base in (("p", p), ("q", q), ("r", r)):
+                pw[key].append(pw[key][-1] * base)
+        # (−(q s + r))^a (p s)^b p^(d−a−b) = Σ_k (−1)^a C(a, k) q^k r^(a−k) p^(d−a) s^(k+b)
+        w = {}
+        for a in range(d + 1):
+            for k in range(a + 1):
+                w[a, k] = (-1) ** a * math.comb(a, k) * (pw["q"][k] * pw["r"][a - k]) * pw["p"][d - a]
+        g: list[dict] = [{} for _ in range(d + 1)]
+        for m, v in f.items():
+            a, b = m[ci], m[si]
+            rest = m[:ci] + (0, 0) + m[si + 1:]
+            for k in range(a + 1):
+                term = v * w[a, k]
+                acc = g[k + b]
+                acc[rest] = acc[rest] + term if rest in acc else term
+        poll()
+        for j in range(d, 1, -1):  # Q₂^{d−1} g ≡ g₁ s + g₀ (mod Q)
+            lead = g[j]
+            for k in range(j):
+                g[k] = {m: q2 * v for m, v in g[k].items()}
+            g[j - 1] = _poly_add(g[j - 1], lead, 1, -q1)
+            g[j - 2] = _poly_add(g[j - 2], lead, 1, -q0)
+            poll()
+        a1, b0 = g[1], g[0]
+        aa, ab, bb = _poly_mul(a1, a1), _poly_mul(a1, b0), _poly_mul(b0, b0)
+        poll()
+        res = _poly_add(_poly_add(aa, ab, q0, -q1), bb, 1, q2)
+        divisor = pw["p"][d] * pw["p"][d]
+        for _ in range(d - 1):
+            divisor = divisor * q2
+        f = {m: _exact_div(v, divisor) for m, v in res.items()}
+        poll()
+    (value,) = f.values() if f else (None,)
+    return value
+
+
+def _evaluate(poly: dict, powers) -> object:
+    """A polynomial ``{(i, j): int}`` in the variables at the points whose powers ``powers`` holds."""
+    xp, yp = powers
+    out = None
+    for (i, j), c in poly.items():
+        v = c * (xp[i] * yp[j])
+        out = v if out is None else out + v
+    return out if out is not None else 0 * xp[0]
+
+
+class _Powers:
+    """Powers of the points' coordinates (object arrays of ints), made on demand."""
+
+    def __init__(self, x, y):
+        self.x, self.y = [np.ones_like(x), x], [np.ones_like(y), y]
+
+    def __getitem__(self, axis):
+        return _PowerList(self.x if axis == 0 else self.y)
+
+
+class _PowerList:
+    def __init__(self, lst):
+        self.lst = lst
+
+    def __getitem__(self, k):
+        while len(self.lst) <= k:
+            self.lst.append(self.lst[-1] * self.lst[1])
+        return self.lst[k]
+
+
+def _newton_1d(values: list) -> list:
+    """The coefficients (lowest first, fractions) of the polynomial through ``(t, values[t])``, ``t = 0, 1, …``."""
+    from fractions import Fraction
+    n = len(values) - 1
+    a = [Fraction(v) for v in values]
+    for k in range(1, n + 1):
+        for j in range(n, k - 1, -1):
+            a[j] = (a[j] - a[j - 1]) / k
+    coeffs = [a[n]]
+    for i in range(n - 1, -1, -1):  # Horner in the Newton basis, nodes 0, 1, …
+        coeffs = [Fraction(0)] + coeffs
+        for k in range(len(coeffs) - 1):
+            coeffs[k] -= i * coeffs[k + 1]
+        coeffs[0] += a[i]
+    return coeffs
+
+
+def _interpolate_triangle(values, n: int, x0: int, y0: int) -> dict:
+    """``{(i, j): int}``: an integer multiple of the polynomial of total degree ≤ ``n`` taking
+    ``values[i, j]`` (an object array) at ``(x0 + i, y0 + j)``, ``i + j ≤ n``.
+
+    Newton's formula on the triangle: forward differences along y then x give
+    ``Δₓⁱ Δᵧʲ``, the coefficient of ``Π_{k<i}(x − x₀ − k) Π_{l<j}(y − y₀ − l)`` times ``i! j!``;
+    everything is scaled by ``n!²`` to stay in the integers, and the Newton basis is expanded by
+    Horner's scheme.
+    """
+    a = values.copy()
+    for k in range(1, n + 1):
+        a[:, k:] = a[:, k:] - a[:, k - 1:-1]
+    for k in range(1, n + 1):
+        a[k:, :] = a[k:, :] - a[k - 1:-1, :]
+    fact = [math.factorial(k) for k in range(n + 1)]
+    scale = [fact[n] // fact[k] for k in range(n + 1)]
+    xpolys = []  # P_j(x) = Σ_i c_ij Π_{k<i}(x − x0 − k), dense, lowest first
+    for j in range(n + 1):
+        m = n - j
+        poly = [int(a[m, j]) * scale[m] * scale[j]]
+        for i in range(m - 1, -1, -1):
+            node = x0 + i
+            poly = [0] + poly
+            for k in range(len(poly) - 1):
+                poly[k] -= node * poly[k + 1]
+            poly[0] += int(a[i, j]) * scale[i] * scale[j]
+        xpolys.append(poly)
+    out = [list(xpolys[n])]  # Horner in y over x-polynomials: out[l] = coefficient of y^l
+    for j in range(n - 1, -1, -1):
+        node = y0 + j
+        out = [[0] * len(xpolys[j])] + out
+        for l in range(len(out) - 1):
+            nxt = out[l + 1]
+            cur = out[l]
+            if len(cur) < len(nxt):
+                cur.extend([0] * (len(nxt) - len(cur)))
+            for k, v in enumerate(nxt):
+                cur[k] -= node * v
+        base = out[0]
+        for k, v in enumerate(xpolys[j]):
+            base[k] += v
+    return {(i, l): c for l, row in enumerate(out) for i, c in enumerate(row) if c}
+
+
+def _eliminate_by_values(det: sp.Expr, ps: PoseSlice, poll=lambda: None) -> tuple[sp.Expr, list[sp.Expr]]:
+    """:func:`eliminate_arms` by values: the norm at integer points, interpolated.
+
+    The norm ``V`` of ``det`` over both placements of every arm (:func:`_norm_chain`, the same
+    resultants as :func:`_eliminate_by_resultants`, the extraneous powers of ``p`` divided out
+    exactly at each step) is a polynomial in ``(x, y)`` with integer coefficients once the data are
+    scaled to integers.  It is computed at integer points only, all points at once (numpy arrays
+    of Python integers: exact).  Its degree is bounded by the same computation on degrees; the
+    powers of each arm's ``q² + E p²`` (no real curve: zero only where ``p = q = 0``) that divide
+    ``V`` are found on a random line (``V`` there interpolated exactly, divided as a univariate
+    polynomial), divided out point by point, and the quotient ``W`` is interpolated on a triangle
+    of ``(n + 1)(n + 2)/2`` points, ``n`` its degree on that line.  ``W`` is then checked at
+    points off the triangle against the values; a mismatch (a line along which ``W`` has a lower
+    degree, or which meets another factor where it meets ``q² + E p²``) retries with the degree
+    bound, and a second one raises :class:`_ByValuesFailed` (then the resultants are used).
+    """
+    import random
+
+    xs = ps.variables
+    legs = ps.legs
+    syms = [x for leg in legs for x in (leg.c, leg.s)]
+    rng, *_ = sp.ring(list(xs) + syms, sp.QQ)
+    f = rng(sp.expand(det))
+    if not f:
+        return sp.Integer(0), []
+    den = math.lcm(*[int(c.denominator) for c in f.values()])
+    # {arm exponents: {(i, j): int}}
+    by_arm: dict = {}
+    for m, c in f.items():
+        by_arm.setdefault(m[2:], {})[m[:2]] = int(c * den)
+    arm_polys = []
+    q2s = []
+    for leg in legs:
+        by_c = _integral(leg.closure, (leg.c, leg.s) + tuple(xs))
+        parts = {"p": {}, "q": {}, "r": {}}
+        for (ec, es, i, j), c in by_c.items():
+            key = "p" if ec == 1 and es == 0 else "q" if ec == 0 and es == 1 else "r" if ec == es == 0 else None
+            if key is None:
+                raise SymkinError(f"the closure of arm {leg.link!r} is not linear in its angle's (cos, sin)")
+            parts[key][i, j] = c
+        p, q, r = parts["p"], parts["q"], parts["r"]
+        if not p:
+            raise SymkinError(f"the closure of arm {leg.link!r} does not depend on its angle's cosine")
+        e2 = sp.Rational(leg.e2)
+        num, dn = int(e2.p), int(e2.q)
+        q2 = _poly_add(_poly_mul(q, q), _poly_mul(p, p), dn, num)  # dn (q² + E p²)
+        q1 = {m: 2 * dn * v for m, v in _poly_mul(q, r).items()}
+        q0 = _poly_add(_poly_mul(r, r), _poly_mul(p, p), dn, -dn)
+        arm_polys.append((p, q, r, q2, q1, q0))
+        g = math.gcd(*q2.values())
+        q2s.append({m: v // g for m, v in q2.items() if v})
+
+    def values(x, y):
+        pw = _Powers(_integers(x), _integers(y))
+        powers = (pw[0], pw[1])
+        terms = {m: _evaluate(poly, powers) for m, poly in by_arm.items()}
+        arms = [tuple(_evaluate(h, powers) for h in polys) for polys in arm_polys]
+        return _norm_chain(terms, arms, poll), powers
+
+    def degree(poly: dict) -> int:
+        return max((i + j for (i, j), v in poly.items() if v), default=0)
+
+    # a degree bound of V
+    bound = _norm_chain({m: _Degree(degree(poly)) for m, poly in by_arm.items()},
+                        [tuple(_Degree(degree(h)) for h in polys) for polys in arm_polys], poll).d
+    chooser = random.Random(20041)
+
+    def admissible(x, y) -> bool:  # every arm's p nonzero at the points (the norm divides by it)
+        pw = _Powers(np.array(x, dtype=object), np.array(y, dtype=object))
+        return all((_evaluate(pp[0], (pw[0], pw[1])) != 0).all() for pp in arm_polys)
+
+    # V on a random line: its exact restriction, the powers of each q² + E p² that divide it
+    t = sp.Symbol("t")
+    for _ in range(50):
+        x0, y0 = chooser.randint(-40, 40), chooser.randint(-40, 40)
+        dx, dy = chooser.randint(1, 9), chooser.randint(-9, 9)
+        lx = [x0 + dx * k for k in range(bound + 1)]
+        ly = [y0 + dy * k for k in range(bound + 1)]
+        if admissible(lx, ly):
+            break
+    else:
+        raise SymkinError("no admissible line for the arms' elimination")
+    v_line, _ = values(lx, ly)
+    poll()
+    line = sp.Poly([sp.Rational(c.numerator, c.denominator) for c in reversed(_newton_1d(list(v_line)))], t,
+                   domain="QQ")
+    sub = {xs[0]: x0 + dx * t, xs[1]: y0 + dy * t}
+    exps = []
+    for h in q2s:
+        hl = sp.Poly(sp.expand(sp.Poly.from_dict(h, *xs).as_expr().xreplace(sub)), t, domain="QQ")
+        e = 0
+        while hl.degree() > 0:
+            quo, rem = line.div(hl)
+            if not rem.is_zero:
+                break
+            line, e = quo, e + 1
+        exps.append(e)
+    removed = [sp.Poly.from_dict(h, *xs).as_expr() for h, e in zip(q2s, exps) for _ in range(e)]
+    poll()
+
+    def quotient(x, y):
+        v, powers = values(x, y)
+        div = None
+        for h, e in zip(q2s, exps):
+            for _ in range(e):
+                hv = _evaluate(h, powers)
+                div = hv if div is None else div * hv
+        return v if div is None else _exact_div(v, div)
+
+    for n in dict.fromkeys((line.degree(), bound - sum(e * degree(h) for h, e in zip(q2s, exps)))):
+        for _ in range(50):
+            gx, gy = chooser.randint(-30, 10), chooser.randint(-30, 10)
+            ii, jj = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij")
+            mask = (ii + jj) <= n
+            px, py = [int(gx + i) for i in ii[mask]], [int(gy + j) for j in jj[mask]]
+            if admissible(px, py):
+                break
+        else:
+            raise SymkinError("no admissible grid for the arms' elimination")
+        tri = np.zeros((n + 1, n + 1), dtype=object)
+        tri[mask] = quotient(px, py)
+        poll()
+        coeffs = _interpolate_triangle(tri, n, gx, gy)
+        poll()
+        # check off the triangle
+        while True:
+            cx = [chooser.randint(-1000, 1000) for _ in range(3)]
+            cy = [chooser.randint(-1000, 1000) for _ in range(3)]
+            if admissible(cx, cy):
+                break
+        want = quotient(cx, cy)
+        scale = math.factorial(n) ** 2
+        got = [sum(c * X ** i * Y ** j for (i, j), c in coeffs.items()) for X, Y in zip(cx, cy)]
+        if all(g == scale * w for g, w in zip(got, want)):
+            break
+    else:
+        raise _ByValuesFailed("the interpolated polynomial does not reproduce the values off its triangle")
+    g = math.gcd(*coeffs.values())
+    out = sp.Poly.from_dict({m: c // g for m, c in coeffs.items()}, *xs).as_expr()
+    return out, removed
+
+
+# ------------------------------------------------------------------ factoring the locus
+
+
+def factor_list(poly: sp.Poly) -> tuple:
+    """``sp.factor_list(poly)`` for a bivariate locus, with a fast exit for an irreducible one.
+
+    sympy factors a bivariate polynomial by Wang's algorithm, which first searches a prime above
+    the polynomial's Mignotte bound: for the degree-48 Delta locus of a float model (coefficients
+    of ~1000 digits) that search alone takes ~25 s.  Irreducibility is certified first instead
+    (:func:`_certified_irreducible`); only a polynomial not certified goes to sympy.
+    """
+    if len(poly.gens) == 2 and poly.total_degree() > 2 and _certified_irreducible(poly):
+        _, prim = poly.clear_denoms()[1].primitive()
+        if prim.LC() < 0:
+            prim = -prim
+        return poly.LC() / prim.LC(), [(prim.set_domain(poly.domain), 1)]
+    return sp.factor_list(poly)
+
+
+def _certified_irreducible(poly: sp.Poly, primes: int = 20) -> bool:
+    """True when ``poly`` (two generators, rational coefficients) is proved irreducible over ℚ.
+
+    With ``n = deg_x F`` and the coefficient of ``xⁿ`` a constant, a factorisation ``F = G H``
+    has ``deg_x G, deg_x H ≥ 1`` (a factor free of x would divide that constant) and constant
+    leading coefficients, so it survives ``y = a``: ``F(x, a)`` irreducible over ℚ proves ``F``
+    irreducible.  ``F(x, a)`` is irreducible when no degree ``0 < k < n`` is a sum of the degrees
+    of its irreducible factors modulo every one of a few primes (distinct-degree factorisation
+    over GF(ℓ), ℓ not dividing the leading coefficient, ``F(x, a)`` squarefree modulo ℓ).  False
+    means "not proved" (then sympy factors it).
+    """
+    from sympy.polys.domains import ZZ
+    from sympy.polys.galoistools import gf_ddf_zassenhaus, gf_from_int_poly, gf_monic, gf_sqf_p
+
+    f = poly.clear_denoms()[1].set_domain(ZZ)
+    n = f.degree(f.gens[0])
+    terms = f.terms()
+    if any(i == n and j > 0 for (i, j), _ in terms) or n < 2:
+        return False
+    possible = None
+    full = (1 << (n + 1)) - 1
+    ell = 100
+    for a in (1, -1, 2, 3):
+        tried = stable = 0
+        while tried < primes and stable < 8:  # a degree left possible by 8 primes in a row: likely a factor
+            ell = int(sp.nextprime(ell))
+            tried += 1
+            coeffs = [0] * (n + 1)
+            for (i, j), c in terms:
+                coeffs[n - i] = (coeffs[n - i] + int(c) % ell * pow(a, j, ell)) % ell
+            if coeffs[0] == 0:
+                continue
+            g = gf_monic(gf_from_int_poly(coeffs, ell), ell, ZZ)[1]
+            if not gf_sqf_p(g, ell, ZZ):
+                continue
+            sums = 1
+            for h, d in gf_ddf_zassenhaus(g, ell, ZZ):
+                for _ in range((len(h) - 1) // d):
+                    sums |= (sums << d) & full
+            before, possible = possible, sums if possible is None else possible & sums
+            if possible == 1 | (1 << n):
+                return True
+            stable = stable + 1 if possible == before else 0
+        possible = None
+    return False
