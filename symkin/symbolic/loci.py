@@ -1007,7 +1007,7 @@ def implicit_loci(mech: Mechanism, variables=("velocity:P.x", "velocity:P.y"), h
 def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
     """The loci of a spatial platform at a held orientation (:mod:`symkin.symbolic.pose_loci`)."""
     from symkin.symbolic.model import symbolic_model
-    from symkin.symbolic.pose_loci import eliminate_arms, factor_list, pose_condition
+    from symkin.symbolic.pose_loci import constraint_condition, eliminate_arms, factor_list, pose_condition
 
     xs = ps.variables
     face = {n: tuple(_q(v) for v in xyz) for n, xyz in mech.nodes}
@@ -1022,16 +1022,15 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
             text = ("no curve: every configuration of the slice is placed by the pose, each leg node in closed "
                     "form where its leg has a length (|C - A| > 0), and moves with the platform's six twists: "
                     "L = F on the slice")
-            if ps.legs:
-                skipped.append("IM locus: not derived on the translating-platform route (its curve is where the "
-                               "platform can also turn, the parallelograms' moments dependent: "
-                               "symkin.symbolic.pose_loci.constraint_condition, not yet part of this command)")
+            if not ps.legs:
+                loci.append(Locus(kind, (), (), time.perf_counter() - t0, text))
                 continue
-            loci.append(Locus(kind, (), (), time.perf_counter() - t0, text))
-            continue
         try:
             with _limit(kind, time_limit) as limit:
-                det, contents = pose_condition(sm, ps, kind)
+                if kind == Kind.IM:  # a translating platform: where it can also turn (its parallelograms)
+                    det, contents = constraint_condition(ps), ()
+                else:
+                    det, contents = pose_condition(sm, ps, kind)
                 _poll(limit)
                 if ps.legs and kind == Kind.DKP_OUTPUT and det.is_number and det != 0:
                     # outputs locked (the platform still): arm i turns alone where its bar is normal to its motion
@@ -1055,8 +1054,13 @@ def _pose_loci(mech, ps, coords, held, kinds, time_limit, tol) -> Loci:
         except (LociError, SymkinError) as exc:
             skipped.append(f"{kind} locus: {exc}")
             continue
-        which = kind.split("-")[1]
-        if ps.legs and kind == Kind.DKP_OUTPUT:
+        which = kind.split("-")[1] if kind != Kind.IM else ""
+        if ps.legs and kind == Kind.IM:
+            note = (f"det[w_i x u_i] = 0: the moments of the three parallelograms (u_i along an arm's bar, w_i "
+                    f"its side on {ps.link!r}) dependent, where {ps.link!r} can also turn (a motion more than "
+                    f"the mobility, with the inputs locked); each arm's angle eliminated as for DKP-input: "
+                    f"every working mode's curve")
+        elif ps.legs and kind == Kind.DKP_OUTPUT:
             note = (f"{ps.link!r} still (outputs locked): arm i turns alone where (C_i - B_i).(dB_i/dtheta_i)"
                     f" = 0, its angle eliminated with its closure (resultant); one factor set per arm")
         elif ps.legs:

@@ -206,12 +206,12 @@ def test_interpolation_helpers_recover_a_polynomial():
 @pytest.mark.slow
 def test_general_delta_conditions_end_to_end():
     """``implicit_loci`` (as ``symkin conditions --in``) on the 120° Delta: one irreducible curve of
-    degree 48 (DKP-input), one quartic per leg (DKP-output), IM not derived."""
+    degree 48 (DKP-input), one quartic per leg (DKP-output), one irreducible curve of degree 48 (IM)."""
     loci = implicit_loci(delta_120(), ("velocity:P.x", "velocity:P.y"), hold=("velocity:P.z",), time_limit=120)
     inp = loci[Kind.DKP_INPUT]
     assert [f.degree for f in inp.factors] == [48] and not inp.trivial
     assert [f.degree for f in loci[Kind.DKP_OUTPUT].factors] == [4, 4, 4]
-    assert any("IM locus: not derived" in s for s in loci.skipped)
+    assert [f.degree for f in loci[Kind.IM].factors] == [48] and not loci.skipped
 
 
 # ------------------------------------------------------------ the constraint singularity (IM)
@@ -249,18 +249,15 @@ def delta_pose_nodes(mech: symkin.Mechanism, x: float, y: float, z: float, mode:
 
 
 def test_constraint_condition_is_where_the_platform_can_turn_im():
-    """The eliminated det[w_i × u_i] (asymmetric float Delta): one irreducible curve of degree 48; at its
-    real roots on x = const one working mode is IM for the numeric core (4 motions, the platform turns),
-    and at points 1e-3 off the roots none is."""
-    from symkin.symbolic.pose_loci import constraint_condition
-
+    """The IM locus of ``symkin conditions`` (``implicit_loci``) on the asymmetric float Delta, the
+    eliminated det[w_i × u_i]: one irreducible curve of degree 48; at its real roots on x = const one
+    working mode is IM for the numeric core (4 motions, the platform turns), and at points 1e-3 off the
+    roots none is."""
     mech = delta_asymmetric()
-    coords = [parse_label(mech, v, "coordinate", _LOCUS_LABELS) for v in ("velocity:P.x", "velocity:P.y")]
-    held = parse_label(mech, "velocity:P.z", "coordinate", _LOCUS_LABELS)
-    ps = translation_slice(mech, coords, [(held, None)], Tolerances().geometry)
-    poly, _ = eliminate_arms(constraint_condition(ps), ps)
-    _, fl = factor_list(sp.Poly(poly, XP, YP, domain="QQ"))
-    assert [(f.total_degree(), m) for f, m in fl] == [(48, 1)]
+    locus = implicit_loci(mech, ("velocity:P.x", "velocity:P.y"), hold=("velocity:P.z",), kinds=(Kind.IM,),
+                          time_limit=120)[Kind.IM]
+    assert [f.degree for f in locus.factors] == [48] and not locus.trivial
+    poly = locus.factors[0].polynomial
     hits = misses = 0
     for xv in ("-1.0", "0.6"):
         for y in _real_roots_y(poly, xv):
