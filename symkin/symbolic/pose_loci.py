@@ -449,8 +449,7 @@ def constraint_condition(ps: PoseSlice) -> sp.Expr:
     tested on an asymmetric float Delta).  The determinant is linear in each arm's ``(c, s)``, and
     :func:`eliminate_arms` gives its curve in ``(x, y)`` over every working mode (degree 48,
     irreducible, for the test models).  The translation-only ``det(P V)`` does not contain this
-    curve.  ``symkin conditions`` does not use it yet (its IM locus on this route is reported as
-    not derived).
+    curve.  ``symkin conditions`` gives it as the IM locus of this route.
     """
     if not ps.legs or any(len(leg.bars) < 2 for leg in ps.legs):
         raise SymkinError("the constraint condition is defined for a platform held to translation by parallelograms")
