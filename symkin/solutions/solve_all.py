@@ -41,13 +41,12 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy as sp
 
 from symkin.analysis.batch import BatchResult, evaluators_for, exact_indicators
-from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
@@ -55,6 +54,9 @@ from symkin.solutions.homotopy import estimate_seconds, require_solver, square_u
 from symkin.solutions.progress import as_progress, format_seconds
 from symkin.solutions.system import PolynomialSystem, configuration, position_system, prescribed_coordinates
 from symkin.tolerances import Tolerances
+
+if TYPE_CHECKING:  # imported where it is used: ``modes`` without --analyze does not pay for it
+    from symkin.analysis.classification import Analysis
 
 __all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
@@ -732,6 +734,8 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
         result = BatchResult(**ex, path=np.full(len(q), 2, dtype=np.int8), tol=Tolerances.of(tol).rank)
     out = []
     scale = checks.scale
+    if do_analyze:
+        from symkin.analysis.classification import analyze as _analyze
     for k, c in enumerate(coords):
         phi = np.array(ev("closure", q[k])["phi"], float).ravel()
         closure = float(np.max(np.abs(phi), initial=0.0)) / scale
