@@ -4,8 +4,10 @@ Two shortcuts of :mod:`symkin.solutions.solve_all` are checked against what they
 checks' Jacobian built equation by equation from polynomials (against sympy's
 ``Matrix.jacobian``), and the labelling of the real solutions by the batch's exact path
 (:func:`symkin.analysis.batch.exact_indicators`) when the evaluators' batch kernel is not built
-(against the batch kernel's signs and types), and the value-free equations read back from the
-artefact cache (against freshly made ones).  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
+(against the batch kernel's signs and types), the value-free equations read back from the
+artefact cache (against freshly made ones), and a later query that reads its plan back
+(:mod:`symkin.solutions.query`: only the value equations made) against the same query made from all its
+equations, bit for bit.  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
 """
 from __future__ import annotations
 
