@@ -1,6 +1,6 @@
 """Benchmark of ``symkin.solve_all`` (issue 9 §1) and ``symkin singularities`` (§2), run on demand — not a test.
 
-    PYTHONPATH=$PWD /work/venv/bin/python benchmarks/bench_solve_all.py [--repeat R] [--only solve_all|singularities]
+    PYTHONPATH=$PWD /work/venv/bin/python benchmarks/bench_solve_all.py [--repeat R] [--only solve_all|parameter|query|singularities] [--baseline DIR]
 
 For each example of the truth tests (``tests/solutions/test_solve_all.py``) it prints the
 wall time of ``solve_all`` (best of R, the evaluators already built once), the time of the
@@ -13,7 +13,8 @@ query by query, in the same run.  ``--only query`` times the whole later query o
 line, ``symkin modes gough_stewart_66.toml --at slide:s1=… --no-progress`` in a fresh process
 (imports, the model's equations, the checks, the tracking of the cached start solutions,
 labelling and printing; the target is at most 2 s), against the imports alone and the
-``solve_all`` call alone in the same run.
+``solve_all`` call alone in the same run; ``--baseline DIR`` also times the code in ``DIR``
+(e.g. ``git worktree add /tmp/base <commit>``), alternating, and checks the same output.
 
 The second table times ``symkin.singularities`` (the command's work, without printing) on the
 appendix four-bar (a Grashof crank-rocker) and the catalogue's Watt II six-bar: total seconds,
@@ -52,13 +53,16 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--only", choices=("solve_all", "parameter", "query", "singularities"), default=None)
+    ap.add_argument("--baseline", metavar="DIR", default=None,
+                    help="--only query: also time the command of the code in DIR (e.g. a git worktree of an "
+                         "earlier commit), alternating, and check it prints the same")
     ap.add_argument("--butterfly", action="store_true",
                     help="also run singularities on the double butterfly (minutes: its rounds of seeds)")
     args = ap.parse_args()
     if args.only in (None, "parameter"):
         bench_parameter(args.repeat)
     if args.only in (None, "query"):
-        bench_query_path(args.repeat)
+        bench_query_path(args.repeat, args.baseline)
     if args.only in (None, "solve_all"):
         bench_solve_all(args.repeat)
     if args.only in (None, "singularities"):
@@ -178,50 +182,92 @@ def bench_parameter(repeat: int) -> None:
               f"{rp.paths:4d}/{rt.paths:<5d} {len(rp.solutions):5d} {rp.complex:5d}")
 
 
-def bench_query_path(repeat: int) -> None:
+def bench_query_path(repeat: int, baseline: str | None = None) -> None:
     """The whole later query of ``symkin modes`` on the general 6-6 Gough–Stewart (issue 17: ≤ 2 s).
 
     A first ``solve_all`` fills a fresh ``$SYMKIN_CACHE`` with the start solutions; then each of
-    ``repeat`` queries (other leg changes) runs the command line in a new process, timed whole,
-    beside the same query through ``solve_all`` in this process and the command's imports alone
+    ``repeat`` rounds runs the command line in a new process, timed whole (wall and the child's CPU
+    time), beside the same query through ``solve_all`` in this process and the command's imports alone
     (a new process that imports ``symkin.cli`` and the solver and exits): the part that no cache
-    can remove.
+    can remove.  Every round's command is a later query: a warm-up query first writes what later
+    queries read back (:mod:`symkin.solutions.query`) and the interpreter's bytecode (kept in a
+    temporary ``PYTHONPYCACHEPREFIX``, as an installed package has it; ``PYTHONDONTWRITEBYTECODE``
+    is dropped for the children).
+
+    ``baseline`` (``--baseline DIR``, e.g. a ``git worktree`` of an earlier commit) also runs the
+    command with ``PYTHONPATH=DIR`` (its own artefact cache, the same start solutions copied in),
+    alternating with this tree in every round, and asserts the same standard output apart from the
+    timings it prints.
     """
     import os
+    import re
+    import resource
+    import shutil
     import subprocess
     import tempfile
 
     from symkin.model.model_file import read_model
 
-    env = dict(os.environ, SYMKIN_CACHE=tempfile.mkdtemp(prefix="symkin-bench-query-"),
-               PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    os.environ["SYMKIN_CACHE"] = env["SYMKIN_CACHE"]
+    work = Path(tempfile.mkdtemp(prefix="symkin-bench-query-"))
+    trees = {"this tree": ROOT}
+    if baseline:
+        trees["baseline"] = Path(baseline).resolve()
+    envs = {}
+    for name, tree in trees.items():
+        env = dict(os.environ, SYMKIN_CACHE=str(work / f"cache-{len(envs)}"), PYTHONPATH=str(tree),
+                   PYTHONPYCACHEPREFIX=str(work / f"pycache-{len(envs)}"))
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        envs[name] = env
+    os.environ["SYMKIN_CACHE"] = envs["this tree"]["SYMKIN_CACHE"]
     path = ROOT / "examples" / "gough_stewart_66.toml"
     gs = read_model(path)
     t = time.perf_counter()
     solve_all(gs, {f"slide:s{k}": 0.0 for k in range(1, 7)}, method="parameter")
     first = time.perf_counter() - t
-    imports, cli, inproc = [], [], []
+    for env in list(envs.values())[1:]:
+        shutil.copytree(Path(envs["this tree"]["SYMKIN_CACHE"]) / "parameter-homotopy",
+                        Path(env["SYMKIN_CACHE"]) / "parameter-homotopy")
+    mask = re.compile(r"tracked in [0-9.]+ s \([0-9.]+ s in all\)")
+
+    def command(env, tree, legs):
+        args = [a for k, v in enumerate(legs, 1) for a in ("--at", f"slide:s{k}={v}")]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t = time.perf_counter()
+        out = subprocess.run([sys.executable, "-m", "symkin", "modes", str(path), *args, "--no-progress"], env=env,
+                             cwd=tree, capture_output=True, text=True)
+        wall = time.perf_counter() - t
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        assert out.returncode == 0, out.stderr
+        return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, mask.sub("", out.stdout)
+
+    for name, env in envs.items():  # the warm-up query: bytecode and what later queries read back
+        command(env, trees[name], [0.01] * 6)
+    imports, inproc = [], []
+    cli = {name: [] for name in envs}
     for r in range(repeat):
         t = time.perf_counter()
         subprocess.run([sys.executable, "-c", "import symkin.cli, symkin.commands.modes, symkin.solutions.solve_all"],
-                       env=env, check=True)
+                       env=envs["this tree"], check=True)
         imports.append(time.perf_counter() - t)
         legs = [0.02 * (r + 1) * (1 if k % 2 else -1) for k in range(1, 7)]
-        args = [a for k, v in enumerate(legs, 1) for a in ("--at", f"slide:s{k}={v}")]
-        t = time.perf_counter()
-        out = subprocess.run([sys.executable, "-m", "symkin", "modes", str(path), *args, "--no-progress"], env=env,
-                             capture_output=True, text=True)
-        cli.append(time.perf_counter() - t)
-        assert out.returncode == 0, out.stderr
+        outputs = {}
+        for name, env in envs.items():
+            wall, cpu, outputs[name] = command(env, trees[name], legs)
+            cli[name].append((wall, cpu))
+        assert len(set(outputs.values())) == 1, "the baseline prints another answer"
         t = time.perf_counter()
         res = solve_all(gs, {f"slide:s{k}": v for k, v in enumerate(legs, 1)}, method="parameter")
         inproc.append(time.perf_counter() - t)
         assert res.method == "parameter" and res.paths == 40
     print(f"{'later query, general 6-6 (40 paths)':40s} {'first s':>8s} {'imports s':>10s} {'solve_all s':>12s} "
-          f"{'CLI whole s':>12s} {'target':>7s}")
-    print(f"{'':40s} {first:8.2f} {min(imports):10.2f} {min(inproc):12.2f} {min(cli):12.2f} {'2.00':>7s}"
-          f"   (best of {repeat}; worst CLI {max(cli):.2f} s)")
+          f"{'CLI whole s':>12s} {'CLI CPU s':>10s} {'target':>7s}")
+    for k, (name, times) in enumerate(cli.items()):
+        walls, cpus = [w for w, _ in times], [c for _, c in times]
+        lead = (f"{first:8.2f} {min(imports):10.2f} {min(inproc):12.2f}" if not k else f"{'':8s} {'':10s} {'':12s}")
+        print(f"{name:40s} {lead} {min(walls):12.2f} {min(cpus):10.2f} {'2.00':>7s}"
+              f"   (best of {repeat}; worst CLI {max(walls):.2f} s)")
+    if baseline:
+        print(f"{'':40s} same output in every round; load average {os.getloadavg()[0]:.1f}")
 
 
 def bench_solve_all(repeat: int) -> None:

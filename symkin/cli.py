@@ -86,8 +86,19 @@ def _interrupted() -> int:
     return 130
 
 
+#: the program's first garbage-collector threshold (Python's default 700): sympy and SciPy allocate
+#: millions of objects while they load and the collector walked them 240 times, a tenth of a
+#: ``symkin modes`` query (issue 17)
+GC_THRESHOLD = 10_000
+
+
 def main(argv: list[str] | None = None) -> int:
     errors.clear_interrupt()
+    if argv is None:  # the program (not a caller's process): fewer collections, see GC_THRESHOLD
+        import gc
+
+        first, *rest = gc.get_threshold()
+        gc.set_threshold(max(first, GC_THRESHOLD), *rest)
     try:  # first of all: a Ctrl-C while the command modules load is an interrupt too
         previous = signal.signal(signal.SIGINT, _on_sigint)
     except ValueError:  # not the main thread: keep Python's handler
@@ -106,6 +117,12 @@ def main(argv: list[str] | None = None) -> int:
             # the program (argv None) has done its work and picked its exit code: a late
             # Ctrl-C no longer changes it; called from Python, the caller's handler comes back
             signal.signal(signal.SIGINT, signal.SIG_IGN if argv is None else previous)
+    if argv is None:
+        # the program has done its work: what is left is freed at exit without the cyclic garbage
+        # collector walking every object first (0.1 s after a command that used sympy; issue 17)
+        import gc
+
+        gc.freeze()
     if code == 130 and argv is None:
         # the program was interrupted and has cleaned up: exit now with 130.  (CPython kills
         # itself with SIGINT at exit when an interrupt once passed through code run by an

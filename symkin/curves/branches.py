@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from symkin.curves.corrector import gauss_newton
 from symkin.curves.locate import as_casadi
@@ -70,6 +69,8 @@ def half_branches(curve, x: np.ndarray, radius: float = HALF_BRANCH_RADIUS, samp
             warm[key] = c.z
         y = base + comp @ c.z
         return float(u0 @ np.array(f(y)[0], float).ravel()), y
+
+    from scipy.optimize import brentq  # here: importing scipy.optimize costs 0.1-0.3 s (issue 17)
 
     grid = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
     values = [point(a, 0)[0] for a in grid]

@@ -35,7 +35,6 @@ from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from symkin.curves.corrector import gauss_newton
 from symkin.curves.stepper import CurvePoint, CurveProblem, point_at, tangent
@@ -138,6 +137,8 @@ def locate_sign_change(problem: CurveProblem, test, a: CurvePoint, b: CurvePoint
         root = sigma_b
     else:
         try:
+            from scipy.optimize import brentq  # here: importing scipy.optimize costs 0.1-0.3 s (issue 17)
+
             root = brentq(f, 0.0, sigma_b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=BRENT_ITERATIONS)
         except NotConvergedError:
             # the curve cannot be projected inside the bracket: a branch point lies there.  Return
@@ -160,6 +161,8 @@ def locate_minimum(problem: CurveProblem, test, a: CurvePoint, b: CurvePoint, c:
         return y, tangent(problem, y, b.t)
 
     f = _Counter(lambda sg: test.value(*at(sg)))
+    from scipy.optimize import minimize_scalar
+
     res = minimize_scalar(f, bounds=(min(lo, hi), max(lo, hi)), method="bounded",
                           options={"xatol": xtol, "maxiter": BRENT_ITERATIONS})
     y, t = at(float(res.x))

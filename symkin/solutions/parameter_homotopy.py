@@ -34,7 +34,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from symkin.curves.corrector import gauss_newton_batch, real_form_batch
 from symkin.errors import SymkinError
@@ -113,6 +112,8 @@ class ParameterFamily:
     @classmethod
     def build(cls, mech: Mechanism, labels, tol: Tolerances, seed: int = 0) -> "ParameterFamily":
         """Sample the original equations at the model and at ``2F + 1`` random values; their affine span."""
+        import sympy as sp
+
         from symkin.solutions.system import leg_reduced_equations, prescribed_coordinates
 
         from symkin.solutions.system import SystemBuilder
@@ -226,7 +227,14 @@ class ParameterFamily:
         """The (m, K) coefficients of a query's original equations on the family's monomials (None: other monomials)."""
         if len(equations) != self.base.shape[0]:
             return None
-        c = np.zeros_like(self.base)
+        return self.coefficient_rows(equations, unknowns)
+
+    def coefficient_rows(self, equations, unknowns) -> np.ndarray | None:
+        """The coefficients of some ``(owner, expr)`` equations on the family's monomials, one row each (None:
+        other monomials); :meth:`coefficient_matrix` of all of them."""
+        import sympy as sp
+
+        c = np.zeros((len(equations), self.base.shape[1]), dtype=self.base.dtype)
         index = {tuple(int(v) for v in m): k for k, m in enumerate(self.exponents)}
         for i, (_, e) in enumerate(equations):
             for m, v in sp.Poly(e, *unknowns).as_dict().items():

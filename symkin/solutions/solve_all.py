@@ -41,20 +41,22 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy as sp
 
 from symkin.analysis.batch import BatchResult, evaluators_for, exact_indicators
-from symkin.analysis.classification import Analysis, analyze as _analyze
 from symkin.curves.corrector import gauss_newton, real_form
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
 from symkin.solutions.homotopy import estimate_seconds, require_solver, square_up, total_degree, track
 from symkin.solutions.progress import as_progress, format_seconds
-from symkin.solutions.system import PolynomialSystem, position_system, prescribed_coordinates
+from symkin.solutions.system import PolynomialSystem, configuration, position_system, prescribed_coordinates
 from symkin.tolerances import Tolerances
+
+if TYPE_CHECKING:  # imported where it is used: ``modes`` without --analyze does not pay for it
+    from symkin.analysis.classification import Analysis
 
 __all__ = ["Endpoints", "Solution", "Solutions", "solve_all", "sort_endpoints"]
 
@@ -207,17 +209,16 @@ def _lambdified(eqs: list, u: list):
     return f, j
 
 
-def _compiled_equations(system: PolynomialSystem, cache: bool):
+def _compiled_equations(system: PolynomialSystem, cache: bool, tol: Tolerances | None = None):
     """``(f, jac)`` of the system's original equations, NumPy functions of the unknowns' vector.
 
     The equations that do not depend on the prescribed values (every owner but ``value:…``) are
     the same at every query of a model: with ``cache`` their generated source is kept in the
-    artefact cache (``$SYMKIN_CACHE/query-checks/``, keyed by the equations' own text, so a
-    changed model or a changed system builder is a new key) and read back at a later query; the
-    value equations are made each time.  On the general 6-6 Gough–Stewart the cached part is 33
-    of its 39 equations.
+    artefact cache (:func:`symkin.solutions.query.checks_file`, keyed by the model's content, the
+    tolerances and the source of the modules that make the equations) and read back at a later
+    query; the value equations are made each time.  On the general 6-6 Gough–Stewart the cached
+    part is 33 of its 39 equations.
     """
-    import hashlib
     import inspect
 
     u = list(system.unknowns)
@@ -227,18 +228,11 @@ def _compiled_equations(system: PolynomialSystem, cache: bool):
     fb = jb = None
     path = None
     if cache and base:
-        from symkin.numeric.codegen import cache_directory
+        from symkin.solutions.query import checks_file, load_checks
 
-        text = "\n".join([f"format {_CHECKS_FORMAT} sympy {sp.__version__}", sp.sstr(u)]
-                         + [sp.sstr(owned[k][1]) for k in base])
-        path = cache_directory() / "query-checks" / f"{hashlib.sha256(text.encode()).hexdigest()[:32]}.py"
+        path = checks_file(system.mechanism, Tolerances.of(tol))
         if path.exists():
-            try:
-                space: dict = dict(np.__dict__)
-                exec(compile(path.read_text(), str(path), "exec"), space)  # our own artefact
-                fb, jb = space["equations"], space["jacobian"]
-            except Exception:  # a damaged file is made again
-                fb = jb = None
+            fb, jb = load_checks(path) or (None, None)
     if fb is None:
         fb, jb = _lambdified([owned[k][1] for k in base], u)
         if path is not None:
@@ -251,9 +245,14 @@ def _compiled_equations(system: PolynomialSystem, cache: bool):
                 write_atomic(path, source)
             except (OSError, TypeError):
                 pass  # no cache: the next query builds them again
+    return _with_values(fb, jb, base, [owned[k][1] for k in rest], rest, u)
+
+
+def _with_values(fb, jb, base: list, value_eqs: list, rest: list, u: list):
+    """``(f, jac)`` of the value-free equations ``fb, jb`` (rows ``base``) with the value equations (rows ``rest``)."""
     if not rest:
         return fb, jb
-    fv, jv = _lambdified([owned[k][1] for k in rest], u)
+    fv, jv = _lambdified(value_eqs, u)
     order = np.argsort(base + rest)
 
     def f(v):
@@ -266,30 +265,45 @@ def _compiled_equations(system: PolynomialSystem, cache: bool):
 
 
 class _Checks:
-    """Newton, filters and the prescribed values, compiled once per system."""
+    """Newton, filters and the prescribed values of one system's original equations, compiled once.
 
-    def __init__(self, system: PolynomialSystem, prescribed, cache: bool = False):
-        u = list(system.unknowns)
-        eqs = [e for _, e in system.equations]
-        f, j = _compiled_equations(system, cache)
+    ``f, j`` the original equations and their Jacobian (NumPy functions of ``u``, ``n_equations``
+    rows), ``filters`` the ``(owner, expr)`` half-line conditions; :meth:`of` makes them from a
+    :class:`PolynomialSystem`.
+    """
+
+    def __init__(self, mech: Mechanism, center, scale: float, unknowns, f, j, n_equations: int, filters,
+                 prescribed):
+        u = list(unknowns)
         self.f = lambda v: np.array(f(v), float).ravel()
-        self.jac = lambda v: np.array(j(v), float).reshape(len(eqs), len(u))
+        self.jac = lambda v: np.array(j(v), float).reshape(n_equations, len(u))
         self.fc = lambda v: np.array(f(v), complex).ravel()
-        self.jc = lambda v: np.array(j(v), complex).reshape(len(eqs), len(u))
-        self.filters = sp.lambdify([u], [e for _, e in system.filters] or [sp.Integer(1)], "numpy", docstring_limit=0)
+        self.jc = lambda v: np.array(j(v), complex).reshape(n_equations, len(u))
+        self.filters = sp.lambdify([u], [e for _, e in filters] or [sp.Integer(1)], "numpy", docstring_limit=0)
         self.filters_c = lambda v: np.array(self.filters(v), complex)
         self.prescribed = prescribed
-        self.system = system
+        self.mechanism, self.center, self.scale = mech, center, scale
         import casadi as ca
 
-        mech = system.mechanism
         x = ca.SX.sym("x", len(mech.nodes) * mech.dim)
         x0 = np.array([c for _, c in mech.nodes], float)
         self.values = ca.Function("values", [x], [ca.vertcat(*[c.expression(mech, x, x0) for c, _ in prescribed])])
 
+    @classmethod
+    def of(cls, system: PolynomialSystem, prescribed, cache: bool = False, tol: Tolerances | None = None
+           ) -> "_Checks":
+        """The checks of ``system``'s original equations (the value-free ones cached with ``cache``)."""
+        f, j = _compiled_equations(system, cache, tol)
+        return cls(system.mechanism, system.center, system.scale, system.unknowns, f, j, len(system.equations),
+                   system.filters, prescribed)
+
+    def coordinates(self, u: np.ndarray) -> dict[str, list[float]]:
+        """Node → coordinates (model units) at the dimensionless free vector ``u``."""
+        return configuration(self.mechanism, self.center, self.scale, u)
+
     def value_error(self, coords: dict) -> float:
         """Largest difference between the prescribed and the recomputed values (rad, or lengths / L)."""
-        mech = self.system.mechanism
+        mech = self.mechanism
         x = np.concatenate([coords[n] for n in mech.node_names])
         got = np.array(self.values(x)).ravel()
         err = 0.0
@@ -298,7 +312,7 @@ class _Checks:
             if c.kind == "angle":
                 d = math.remainder(d, 2 * math.pi)
             else:
-                d = d / self.system.scale
+                d = d / self.scale
             err = max(err, abs(d))
         return err
 
@@ -411,7 +425,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
         ends = np.ones((1, 1), complex)
     progress.advance(degree)
     track_seconds = time.perf_counter() - t0
-    checks = _Checks(system, prescribed)
+    checks = _Checks.of(system, prescribed)
     points, infinite = [], 0
     for v in ends:
         h = v[0]
@@ -424,7 +438,7 @@ def solve_all(mech: Mechanism, values: dict, unit: str = "rad", tol: float | Tol
             continue
         points.append(system.recover(w))
     sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
-    return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze,
+    return _result(mech, values, unit, (len(system.solve_for), len(system.reduced)), checks, sorted_, tol, do_analyze,
                    paths=int(len(ends)) if n else 0, at_infinity=infinite, failed=0,
                    seconds=time.perf_counter() - start, track_seconds=track_seconds, method="total-degree")
 
@@ -435,15 +449,17 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
 
     The query builds the original equations and the leg-reduced ones of the family
     (:func:`symkin.solutions.system.leg_reduced_equations`), not the fully reduced system of
-    :func:`~symkin.solutions.system.position_system` (seconds of sympy on a Gough–Stewart).
+    :func:`~symkin.solutions.system.position_system` (seconds of sympy on a Gough–Stewart); a later
+    query builds only those that depend on the values and reads the rest back from the artefact
+    cache (:mod:`symkin.solutions.query`).
     """
     from symkin.solutions.monodromy import start_solutions
     from symkin.solutions.parameter_homotopy import track_parameters
-    from symkin.solutions.system import leg_reduced_equations, original_equations
+    from symkin.solutions.system import value_equations
 
-    unknowns, equations, filters, center, scale = original_equations(mech, values, unit, tol)
-    if not unknowns or not values:
+    if not mech.free_nodes or not values:
         return None
+    ve = value_equations(mech, values, unit, tol)
     try:
         starts = start_solutions(mech, list(values), tol, seed=seed, cache=cache, progress=progress)
     except SymkinError:
@@ -451,16 +467,15 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
     if starts is None or not starts.family.rank:
         return None  # no first solution, or nothing to loop around (no prescribed value)
     family = starts.family
-    kept, reduced, recover = leg_reduced_equations(mech, values, unit, tol)
-    if family.kept is None or list(kept) != [int(k) for k in family.kept]:
+    query = _planned_query(mech, values, tol, family, ve, prescribed) if cache and starts.cached else None
+    if query is None:
+        query = _full_query(mech, values, unit, tol, family, ve, prescribed, cache)
+    if query is None:
         return None
-    c = family.coefficient_matrix(reduced, [unknowns[k] for k in kept])
-    if c is None:
-        return None
+    c, recover, checks, sizes, kept, reduced = query
     lam, off = family.parameters_of(c)
     if off > SPAN_OFF:
         return None  # the query is not in the sampled family (a degenerate sample): total degree
-    system = PolynomialSystem(mech, center, scale, tuple(unknowns), tuple(equations), tuple(filters), (), (), None)
     lam = lam.astype(complex)
 
     def track(starts_):
@@ -472,7 +487,6 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
     t0 = time.perf_counter()
     tracked, points = track(starts)
     track_seconds = time.perf_counter() - t0
-    checks = _Checks(system, prescribed, cache=cache)
     sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
     if not starts.cached and bertini_available():
         # first solve: monodromy reaches one component of the incidence variety only; the
@@ -480,7 +494,8 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
         # the fully reduced system costs seconds of sympy on a large model: first a Bézout bound from the
         # leg-reduced equations (a linear substitution never raises a degree)
         limit = min(max_paths, FIRST_CHECK_PATHS)
-        degrees = sorted((sp.Poly(e, *[unknowns[k] for k in kept]).total_degree() for _, e in reduced), reverse=True)
+        degrees = sorted((sp.Poly(e, *[ve.unknowns[k] for k in kept]).total_degree() for _, e in reduced),
+                         reverse=True)
         degree = math.prod(degrees[:len(kept)])
         if degree <= limit:
             full = position_system(mech, values, unit, tol)
@@ -503,9 +518,63 @@ def _solve_parameter(mech, values, unit, prescribed, tol, do_analyze, imaginary,
                 tracked, points = track(starts)
                 track_seconds = time.perf_counter() - t0
                 sorted_ = sort_endpoints(checks, points, tol, imaginary, near_real)
-    return _result(mech, values, unit, system, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
+    return _result(mech, values, unit, sizes, checks, sorted_, tol, do_analyze, paths=int(len(starts.u)),
                    at_infinity=0, failed=int(np.sum(~tracked.ok)), seconds=time.perf_counter() - start,
                    track_seconds=track_seconds, method="parameter")
+
+
+def _full_query(mech, values, unit, tol, family, ve, prescribed, cache):
+    """``(c, recover, checks, sizes, kept, reduced)`` of a query from all its equations (and, with ``cache``, the
+    :class:`~symkin.solutions.query.QueryPlan` of the later ones); None when the family does not fit."""
+    from symkin.solutions.system import leg_reduced_equations, original_equations
+
+    unknowns, equations, filters, center, scale = original_equations(mech, values, unit, tol)
+    kept, reduced, recover = leg_reduced_equations(mech, values, unit, tol)
+    if family.kept is None or list(kept) != [int(k) for k in family.kept]:
+        return None
+    c = family.coefficient_matrix(reduced, [unknowns[k] for k in kept])
+    if c is None:
+        return None
+    system = PolynomialSystem(mech, center, scale, tuple(unknowns), tuple(equations), tuple(filters), (), (), None)
+    checks = _Checks.of(system, prescribed, cache=cache, tol=tol)
+    if cache:
+        from symkin.solutions.query import QueryPlan, plan_file, save_plan
+
+        fixed = len(reduced) - len(ve.reduced)
+        base = len(equations) - len(ve.original)
+        # the plan keeps what does not depend on the values; made by the same code as the value equations' rest
+        if ([o for o, _ in reduced[fixed:]] == [o for o, _ in ve.reduced]
+                and [o for o, _ in equations[base:]] == [o for o, _ in ve.original]
+                and all(not str(o).startswith(("value:", "leg:")) for o, _ in reduced[:fixed])
+                and all(not str(o).startswith("value:") for o, _ in equations[:base])
+                and list(ve.kept) == list(kept) and len(filters) == len(ve.filters)):
+            save_plan(plan_file(mech, list(values), tol),
+                      QueryPlan(c[:fixed].copy(), tuple(o for o, _ in ve.reduced), tuple(ve.legs), tuple(ve.kept),
+                                base, tuple(o for o, _ in ve.original)))
+    return c, recover, checks, (len(unknowns), len(equations)), kept, reduced
+
+
+def _planned_query(mech, values, tol, family, ve, prescribed):
+    """``(c, recover, checks, sizes, kept, reduced)`` of a later query from its
+    :class:`~symkin.solutions.system.ValueEquations` and what the first query kept (:mod:`symkin.solutions.query`);
+    None when nothing is kept or it does not fit (``reduced`` is None: only the first solve needs it)."""
+    from symkin.solutions.query import checks_file, load_checks, load_plan, plan_file
+
+    plan = load_plan(plan_file(mech, list(values), tol))
+    if plan is None or not plan.base or family.kept is None or list(plan.kept) != [int(k) for k in family.kept]:
+        return None
+    c = plan.coefficients(family, ve)
+    if c is None:
+        return None
+    kept_checks = load_checks(checks_file(mech, tol))
+    if kept_checks is None:
+        return None
+    u = list(ve.unknowns)
+    n_equations = plan.base + len(ve.original)
+    f, j = _with_values(*kept_checks, list(range(plan.base)), [e for _, e in ve.original],
+                        list(range(plan.base, n_equations)), u)
+    checks = _Checks(mech, ve.center, ve.scale, u, f, j, n_equations, ve.filters, prescribed)
+    return c, ve.recover, checks, (len(u), n_equations), list(ve.kept), None
 
 
 def bertini_available() -> bool:
@@ -625,17 +694,15 @@ def _complex_newton(checks: "_Checks", u: np.ndarray) -> tuple[np.ndarray, float
     return c.z[:n] + 1j * c.z[n:], c.residual
 
 
-def _result(mech, values, unit, system, checks, e: Endpoints, tol, do_analyze, *, paths, at_infinity, failed,
+def _result(mech, values, unit, sizes, checks, e: Endpoints, tol, do_analyze, *, paths, at_infinity, failed,
             seconds, track_seconds, method) -> "Solutions":
+    """The :class:`Solutions`; ``sizes`` the unknowns and equations given to the solver."""
     ev = evaluators_for(mech, tol)
-    coords = [system.coordinates(u) for u in e.real]
+    coords = [checks.coordinates(u) for u in e.real]
     sols = _label(mech, ev, coords, e.residuals, e.counts, checks, tol, do_analyze)
     sols.sort(key=lambda s: [c for n in mech.free_nodes for c in s.configuration[n]])
     return Solutions(mech, dict(values), unit, tuple(sols), len(e.complex), e.near_real, at_infinity, e.filtered,
-                     e.rejected, len(coords) - len(sols), paths,
-                     *((len(system.unknowns), len(system.equations)) if method == "parameter"
-                       else (len(system.solve_for), len(system.reduced))),
-                     seconds, track_seconds, failed, method)
+                     e.rejected, len(coords) - len(sols), paths, *sizes, seconds, track_seconds, failed, method)
 
 
 def _duplicate(u, seen, distance: float) -> int | None:
@@ -666,7 +733,9 @@ def _label(mech, ev, coords, residuals, counts, checks: _Checks, tol: Tolerances
         ex = exact_indicators(ev, q, tol)
         result = BatchResult(**ex, path=np.full(len(q), 2, dtype=np.int8), tol=Tolerances.of(tol).rank)
     out = []
-    scale = checks.system.scale
+    scale = checks.scale
+    if do_analyze:
+        from symkin.analysis.classification import analyze as _analyze
     for k, c in enumerate(coords):
         phi = np.array(ev("closure", q[k])["phi"], float).ravel()
         closure = float(np.max(np.abs(phi), initial=0.0)) / scale

@@ -50,7 +50,8 @@ from symkin.model.mechanism import AXES, Mechanism
 from symkin.numeric.coordinates import InputCoordinate, axis_angle_setup, measuring_pair, parse_input_label
 from symkin.tolerances import DEFAULT, Tolerances
 
-__all__ = ["PolynomialSystem", "SystemBuilder", "closure_system", "position_system", "prescribed_coordinates", "recover_jacobian"]
+__all__ = ["PolynomialSystem", "SystemBuilder", "ValueEquations", "closure_system", "configuration", "position_system",
+           "prescribed_coordinates", "recover_jacobian", "value_equations"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,12 +92,17 @@ class PolynomialSystem:
 
     def coordinates(self, u: np.ndarray) -> dict[str, list[float]]:
         """Node name → coordinates (model units) of every node at the dimensionless free vector ``u``."""
-        mech = self.mechanism
-        out = {n: list(map(float, x)) for n, x in mech.nodes}
-        dim = mech.dim
-        for k, n in enumerate(mech.free_nodes):
-            out[n] = [float(self.center[a] + self.scale * u[k * dim + a]) for a in range(dim)]
-        return out
+        return configuration(self.mechanism, self.center, self.scale, u)
+
+
+def configuration(mech: Mechanism, center, scale: float, u: np.ndarray) -> dict[str, list[float]]:
+    """Node name → coordinates (model units) of every node of ``mech`` at the dimensionless free vector ``u``
+    (``x = center + scale·u``)."""
+    out = {n: list(map(float, x)) for n, x in mech.nodes}
+    dim = mech.dim
+    for k, n in enumerate(mech.free_nodes):
+        out[n] = [float(center[a] + scale * u[k * dim + a]) for a in range(dim)]
+    return out
 
 
 def _symbols(mech: Mechanism):
@@ -443,18 +449,23 @@ def original_equations(mech: Mechanism, values: dict, unit: str = "rad", tol: To
     return tuple(b.u), tuple(b.equations), tuple(b.filters), b.center, b.scale
 
 
-def _leg_reduced(b: SystemBuilder, mech: Mechanism, prescribed, reduce_values: bool = True):
-    """The equations with the prismatic legs reduced (module docstring), the unknowns kept, the legs."""
+def _leg_reduced(b: SystemBuilder, mech: Mechanism, prescribed, reduce_values: bool = True, fixed: bool = True):
+    """The equations with the prismatic legs reduced (module docstring), the unknowns kept, the legs.
+
+    The equations come in the order: bodies and sliders (they do not depend on the values), then
+    the values', then the legs'; with ``fixed=False`` the first group is left out.
+    """
     legs = _legs(b, prescribed)
     b.equations, b.filters = [], []
     skip_links = {leg[1] for leg in legs}
     skip_sliders = {leg[0].id for leg in legs}
     skip_values = {leg[7] for leg in legs}
-    keep = [(nm, ns) for nm, ns in mech.links if nm not in skip_links]
-    b.mech = replace(mech, links=tuple(keep))
-    _bodies(b)
-    b.mech = mech
-    _sliders(b, skip_sliders)
+    if fixed:
+        keep = [(nm, ns) for nm, ns in mech.links if nm not in skip_links]
+        b.mech = replace(mech, links=tuple(keep))
+        _bodies(b)
+        b.mech = mech
+        _sliders(b, skip_sliders)
     _values(b, prescribed, skip_values, reduce=reduce_values)
     owned = list(b.equations)
     for leg in legs:
@@ -489,6 +500,68 @@ def leg_reduced_equations(mech: Mechanism, values: dict, unit: str = "rad", tol:
         return _place_bars(b, mech, legs, u, v.dtype)
 
     return kept, tuple(owned), recover
+
+
+@dataclass(frozen=True, eq=False)
+class ValueEquations:
+    """The equations of a position problem that depend on the prescribed values (a later query, issue 17).
+
+    :func:`original_equations` gives the bodies' and sliders' equations first and the values'
+    last; :func:`leg_reduced_equations` the bodies' and sliders' (of the links and sliders that
+    are not a reduced leg), then the values', then the legs'.  The first group does not depend
+    on the values: a query that has it from an earlier one (:mod:`symkin.solutions.query`)
+    builds only these.
+
+    Attributes
+    ----------
+    unknowns : tuple of sympy.Symbol
+        As :attr:`PolynomialSystem.unknowns`.
+    center, scale
+        ``x = center + scale·u``.
+    original : tuple of (str, sympy.Expr)
+        The value equations that end :func:`original_equations`' list.
+    filters : tuple of (str, sympy.Expr)
+        Its filters (every filter is a value's).
+    reduced : tuple of (str, sympy.Expr)
+        The value and leg equations that end :func:`leg_reduced_equations`' list.
+    kept : tuple of int
+        As :func:`leg_reduced_equations`' ``kept``.
+    legs : tuple of str
+        ``"<slider>:<link>"`` of each reduced leg (which bodies and sliders the first group leaves out).
+    recover : callable
+        As :func:`leg_reduced_equations`' ``recover``.
+    """
+
+    unknowns: tuple
+    center: np.ndarray
+    scale: float
+    original: tuple
+    filters: tuple
+    reduced: tuple
+    kept: tuple
+    legs: tuple
+    recover: object = field(repr=False)
+
+
+def value_equations(mech: Mechanism, values: dict, unit: str = "rad", tol: Tolerances = DEFAULT) -> ValueEquations:
+    """The equations of :func:`original_equations` and :func:`leg_reduced_equations` that depend on the values
+    (:class:`ValueEquations`): the same expressions as theirs, made by the same code."""
+    tol = Tolerances.of(tol)
+    prescribed = prescribed_coordinates(mech, values, unit)
+    b = SystemBuilder(mech, tol)
+    _values(b, prescribed, set())
+    original, filters = tuple(b.equations), tuple(b.filters)
+    owned, keep_u, legs = _leg_reduced(b, mech, prescribed, reduce_values=False, fixed=False)
+    kept = [b.u.index(s) for s in keep_u]
+
+    def recover(v):
+        v = np.asarray(v)
+        u = np.zeros(len(b.u), dtype=v.dtype)
+        u[kept] = v
+        return _place_bars(b, mech, legs, u, v.dtype)
+
+    return ValueEquations(tuple(b.u), b.center, b.scale, original, filters, tuple(owned), tuple(kept),
+                          tuple(f"{leg[0].id}:{leg[1]}" for leg in legs), recover)
 
 
 def _place_bars(b: SystemBuilder, mech: Mechanism, legs, u: np.ndarray, dtype) -> np.ndarray:

@@ -169,6 +169,18 @@ def _null_space(a: np.ndarray) -> np.ndarray:
     return vh[int(np.sum(sv > cut)):].T
 
 
+class _OnFirstUse(dict):
+    """``{key: make(key)}``, each value made on its first look-up."""
+
+    def __init__(self, make):
+        super().__init__()
+        self._make = make
+
+    def __missing__(self, key):
+        value = self[key] = self._make(key)
+        return value
+
+
 class EvaluationCounter:
     """Calls of the residual/Jacobian Functions (one count per evaluation)."""
 
@@ -210,9 +222,6 @@ class LocusProblems:
         self.n_constraints = int(g.numel())
         self._axes = _NumericCall(ca.Function("axes", [y], [ax, ca.jacobian(ax, y)]))
         self._tests = _NumericCall(ca.Function("tests", [y], [tests[Kind.DKP_INPUT], tests[Kind.DKP_OUTPUT], rel_im]))
-        self._curve = {k: _NumericCall(ca.Function(f"locus_{KINDS[k]}", [y], [ca.vertcat(g, t),
-                                                                               ca.jacobian(ca.vertcat(g, t), y)]))
-                       for k, t in tests.items()}
         self._constraints = _NumericCall(ca.Function("constraints", [y], [g, ca.jacobian(g, y)]))
         target = ca.SX.sym("target", 2)
         sq = ca.vertcat(g, ax - target)
@@ -220,10 +229,19 @@ class LocusProblems:
         s = ca.SX.sym("s")
         a0, d = ca.SX.sym("a0", 2), ca.SX.sym("d", 2)
         z = ca.vertcat(y, s)
-        self._extended = {}
-        for k, t in tests.items():
-            e = ca.vertcat(g, ax - (a0 + s * d), t)
-            self._extended[k] = _NumericCall(ca.Function(f"extended_{KINDS[k]}", [z, a0, d], [e, ca.jacobian(e, z)]))
+
+        def curve(k):
+            t = tests[k]
+            return _NumericCall(ca.Function(f"locus_{KINDS[k]}", [y], [ca.vertcat(g, t), ca.jacobian(ca.vertcat(g, t), y)]))
+
+        def extended(k):
+            e = ca.vertcat(g, ax - (a0 + s * d), tests[k])
+            return _NumericCall(ca.Function(f"extended_{KINDS[k]}", [z, a0, d], [e, ca.jacobian(e, z)]))
+
+        # each kind's locus Functions (the Jacobian of its test through the whole indicator kernel: seconds
+        # on a large model) are built when that kind is refined: a map with DKP-input curves only never
+        # builds the DKP-output ones (issue 16: the 6-UPS joint form's map)
+        self._curve, self._extended = _OnFirstUse(curve), _OnFirstUse(extended)
 
         self._slopes: dict = {}
         self._g, self._rank_drop = g, None

@@ -4,8 +4,10 @@ Two shortcuts of :mod:`symkin.solutions.solve_all` are checked against what they
 checks' Jacobian built equation by equation from polynomials (against sympy's
 ``Matrix.jacobian``), and the labelling of the real solutions by the batch's exact path
 (:func:`symkin.analysis.batch.exact_indicators`) when the evaluators' batch kernel is not built
-(against the batch kernel's signs and types), and the value-free equations read back from the
-artefact cache (against freshly made ones).  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
+(against the batch kernel's signs and types), the value-free equations read back from the
+artefact cache (against freshly made ones), and a later query that reads its plan back
+(:mod:`symkin.solutions.query`: only the value equations made) against the same query made from all its
+equations, bit for bit.  Speed is shown in ``benchmarks/bench_solve_all.py --only query``.
 """
 from __future__ import annotations
 
@@ -97,3 +99,62 @@ def test_cached_equations_are_the_fresh_ones(tmp_path, monkeypatch):
             for a, b in zip(cached, fresh):
                 va, vb = np.array(a(x), complex), np.array(b(x), complex).reshape(np.shape(a(x)))
                 assert np.max(np.abs(va - vb)) <= 1e-12 * max(1.0, np.max(np.abs(vb)))
+
+
+@pytest.mark.parametrize("path, first, later, unit", [
+    ("examples/rpr_3.toml", {"slide:s1": 0.1, "slide:s2": -0.2, "slide:s3": 0.05},
+     {"slide:s1": 0.3, "slide:s2": 0.2, "slide:s3": -0.1}, "rad"),
+    ("examples/fivebar.toml", {"velocity:P.x": 0.1, "velocity:P.y": -0.2},
+     {"velocity:P.x": -0.05, "velocity:P.y": 0.1}, "rad"),
+    ("papers_examples/fourbar_appendix.toml", {"rotation:crank": 30}, {"rotation:crank": -75}, "deg"),
+], ids=["3-RPR-slides", "five-bar-point", "four-bar-angle"])
+def test_planned_query_is_the_full_one_bit_for_bit(path, first, later, unit, tmp_path, monkeypatch):
+    """A later query that reads the value-free equations back (symkin.solutions.query) gives the same
+    numbers, bit for bit, as the same query made from all its equations: configurations, residuals,
+    counts and labels (the output of ``symkin modes`` prints rounding-level digits)."""
+    from symkin.solutions import query
+
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    mech = read_model(Path(__file__).resolve().parents[2] / path)
+    solve_all_module.solve_all(mech, first, unit=unit, method="parameter")  # start solutions and the plan
+    assert list((tmp_path / "query-plans").glob("*.npz")) and list((tmp_path / "query-checks").glob("*.py"))
+    full_calls = []
+    real_full = solve_all_module._full_query
+    monkeypatch.setattr(solve_all_module, "_full_query", lambda *a, **k: full_calls.append(1) or real_full(*a, **k))
+    planned = solve_all_module.solve_all(mech, later, unit=unit, method="parameter")
+    assert not full_calls  # read back: only the value equations were made
+    for f in (tmp_path / "query-plans").glob("*.npz"):
+        f.unlink()
+    full = solve_all_module.solve_all(mech, later, unit=unit, method="parameter")
+    assert full_calls == [1]
+    assert planned.method == full.method == "parameter" and len(planned.solutions) > 0
+    for key in ("complex", "near_real", "at_infinity", "filtered", "rejected", "unverified", "paths", "failed",
+                "unknowns", "equations"):
+        assert getattr(planned, key) == getattr(full, key), key
+    assert len(planned.solutions) == len(full.solutions)
+    for a, b in zip(planned.solutions, full.solutions):
+        assert a.configuration == b.configuration  # exact floats
+        assert (a.residual, a.closure, a.signs, a.types, a.multiplicity) == \
+            (b.residual, b.closure, b.signs, b.types, b.multiplicity)
+    assert query.plan_file(mech, list(later), Tolerances()).exists()  # made again by the full query
+
+
+def test_plan_that_does_not_fit_is_not_used(tmp_path, monkeypatch):
+    """A plan whose owners differ from the query's value equations (here: doctored) is not used: the
+    query is made from all its equations, with the same answer."""
+    from symkin.solutions import query
+
+    monkeypatch.setenv("SYMKIN_CACHE", str(tmp_path))
+    mech = read_model(Path(__file__).resolve().parents[2] / "examples" / "rpr_3.toml")
+    values = {"slide:s1": 0.1, "slide:s2": -0.2, "slide:s3": 0.05}
+    before = solve_all_module.solve_all(mech, values, method="parameter")
+    path = query.plan_file(mech, list(values), Tolerances())
+    plan = query.load_plan(path)
+    query.save_plan(path, query.QueryPlan(plan.fixed_rows, plan.reduced_owners[::-1], plan.legs, plan.kept,
+                                          plan.base, plan.original_owners))
+    full_calls = []
+    real_full = solve_all_module._full_query
+    monkeypatch.setattr(solve_all_module, "_full_query", lambda *a, **k: full_calls.append(1) or real_full(*a, **k))
+    after = solve_all_module.solve_all(mech, values, method="parameter")
+    assert full_calls == [1]
+    assert [s.configuration for s in after.solutions] == [s.configuration for s in before.solutions]
