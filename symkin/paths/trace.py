@@ -165,9 +165,9 @@ class CoordinateValues:
 
 def _node_coordinate(mech: Mechanism, c: InputCoordinate, x: np.ndarray) -> float | None:
     """The absolute value of a node's coordinate label (``velocity:P.x`` → x of P, as a map's axes); else None."""
-    if c.parameter.kind != "velocity" or c.component is None:
+    if c.parameter.kind != "velocity":
         return None
-    return float(x[mech.node_index()[c.parameter.target[0]], c.component])
+    return float(x[mech.node_index()[c.parameter.target[0]], c.axis])  # axis: velocity:P.y and velocity: P alike
 
 
 @dataclass(frozen=True)
