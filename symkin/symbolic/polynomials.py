@@ -16,6 +16,7 @@ from sympy import QQ
 from sympy.polys.rings import ring
 
 from symkin.symbolic.rows import SymRow
+from symkin.symbolic.time_limit import check_deadline
 
 __all__ = ["PolyContext", "free_rows", "independent_constant_rows", "poly_key", "scale_factors"]
 
@@ -73,24 +74,44 @@ class PolyContext:
             self._to_gen[sp.sin(a)] = s
         self.back = {c: sp.cos(a) for a, (c, s) in self.trig.items()}
         self.back.update({s: sp.sin(a) for a, (c, s) in self.trig.items()})
-        converted = {}
-        others: set = set()
-        for row in rows:
-            for e in row.entries(sm.dim).values():
-                if e not in converted:
-                    converted[e] = self._prepare(e)
-                    others |= converted[e].free_symbols
+        entries = list(dict.fromkeys(e for row in rows for e in row.entries(sm.dim).values()))
         trig_gens = [g for a in self.angles for g in self.trig[a]]
+        if self.trig:
+            converted = {}
+            others: set = set()
+            for e in entries:
+                check_deadline()
+                converted[e] = self._prepare(e)
+                others |= converted[e].free_symbols
+        else:
+            converted, others = self._nodal(entries)
         others -= set(trig_gens)
         self.other = sorted(others, key=lambda s: s.name)
         self.gens = trig_gens + self.other
         if not self.gens:
             self.gens = [sp.Dummy("one")]
         self.R, *_ = ring(self.gens, QQ)
-        self._cache = {e: self.R.from_expr(v) for e, v in converted.items()}
+        self._cache = {e: (self.R.from_expr(v) if self.trig else v.set_ring(self.R)) for e, v in converted.items()}
         self.trig_index = {a: (self.gens.index(self.trig[a][0]), self.gens.index(self.trig[a][1]))
                            for a in self.angles}
         self.other_index = [self.gens.index(s) for s in self.other]
+
+    @staticmethod
+    def _nodal(entries: list) -> tuple[dict, set]:
+        """Nodal entries as polynomials, built by sparse ring arithmetic (``ring.from_expr`` of the
+        unexpanded entry; ``sympy.expand`` of a helical pair's entry, degree 11 in 16 symbols,
+        does not finish), with the symbols they use.  The ring is the one of every symbol
+        written; the symbols that cancel are left out of the returned set, as an expansion would."""
+        candidates = sorted(set().union(*(e.free_symbols for e in entries)), key=lambda s: s.name)
+        wide, *_ = ring(candidates or [sp.Dummy("one")], QQ)
+        converted = {}
+        used: set = set()
+        for e in entries:
+            check_deadline()
+            p = wide.from_expr(e)
+            converted[e] = p
+            used |= {i for m in p.itermonoms() for i, k in enumerate(m) if k}
+        return converted, {candidates[i] for i in used} if candidates else set()
 
     def _prepare(self, e: sp.Expr) -> sp.Expr:
         if self.trig:
