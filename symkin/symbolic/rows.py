@@ -47,7 +47,7 @@ from symkin.symbolic.symbols import (angle_symbol, coordinate_symbol, exact, exa
                                      length_symbol, offset_symbol, slide_symbol)
 from symkin.tolerances import DEFAULT
 
-__all__ = ["SymRow", "RowBuilder", "COORDINATES"]
+__all__ = ["SymRow", "RowBuilder", "COORDINATES", "known_nodes"]
 
 COORDINATES = ("nodes", "angles")
 
