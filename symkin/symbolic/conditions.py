@@ -57,7 +57,7 @@ from symkin.tolerances import DEFAULT
 from symkin.symbolic.factors import FACTOR_TERMS
 from symkin.symbolic.gram import gram_condition
 from symkin.symbolic.minors import MAX_MINORS, determinant_condition, sum_of_squares_condition
-from symkin.symbolic.polynomials import free_rows
+from symkin.symbolic.polynomials import free_rows, independent_constant_rows
 from symkin.symbolic.results import Condition, Factor
 from symkin.symbolic.rows import SymRow
 from symkin.symbolic.time_limit import DerivationTimeout, with_time_limit
@@ -77,8 +77,9 @@ def _independent_rows(sm, rows: list[SymRow]) -> list[SymRow]:
     rank to its rows kept so far together with the pair rows of node pairs an earlier
     link already enforces.  Both dependencies persist: a body keeps its shape (so a subset
     spanning its rows here spans them everywhere), and a node pair shared by two bodies (a
-    revolute pair in space, a bar inside a body) is the same row in both.  The velocity
-    equation keeps its solutions, and its maximal minors their common zeros.
+    revolute pair in space, a bar inside a body) is the same row in both.  Constant rows that
+    repeat earlier ones go too (:func:`~symkin.symbolic.polynomials.independent_constant_rows`).
+    The velocity equation keeps its solutions, and its maximal minors their common zeros.
     """
     from symkin.numeric.geometric_matrix import constraint_rows
 
@@ -122,7 +123,7 @@ def _independent_rows(sm, rows: list[SymRow]) -> list[SymRow]:
             else:
                 dropped.add(id(r))
         enforced |= {frozenset(pair) for pair in itertools.combinations(ns, 2)}
-    return [r for r in rows if id(r) not in dropped]
+    return independent_constant_rows(sm, [r for r in rows if id(r) not in dropped])
 
 
 def im_condition(sm, time_limit: float | None = None) -> Condition:
@@ -162,6 +163,11 @@ def _im_condition(sm) -> Condition:
             if math.comb(n, r) <= DIRECT_MINORS:
                 return sum_of_squares_condition(sm, Kind.IM, (), reduced, r, note, t0)
             return gram_condition(sm, Kind.IM, (), reduced, note, t0)
+        elif (math.comb(len(rows), r) * math.comb(n, r) > MAX_MINORS >= math.comb(len(reduced), r) * math.comb(n, r)
+              and len(independent_constant_rows(sm, rows)) < len(rows)):  # the screw jack: its P repeats its H
+            note = (f"e_{r} of the reduced equation's G = Σ (maximal minors)², each body reduced to independent rows "
+                    f"and repeated constant rows dropped ({len(rows) - len(reduced)}); zero exactly where L > F = {f}")
+            return sum_of_squares_condition(sm, Kind.IM, (), reduced, r, note, t0)
     return sum_of_squares_condition(sm, Kind.IM, (), list(sm.rows), r, note, t0)
 
 

@@ -17,7 +17,7 @@ from sympy import QQ
 from sympy.polys.rings import ring
 
 from symkin.symbolic.determinants import laplace_det
-from symkin.symbolic.polynomials import PolyContext, poly_key
+from symkin.symbolic.polynomials import PolyContext, poly_key, scale_factors
 from symkin.symbolic.readable_forms import readable_trig
 from symkin.symbolic.results import Factor
 from symkin.symbolic.rows import SymRow
@@ -110,6 +110,9 @@ class _Library:
                         p = ctx.from_expr_symbolic(sq)
                         if p:
                             self._add(p, sq, f"squared area of {link} ({i}, {j}, {k})", True)
+        for base, owner in scale_factors(sm):  # nonzero wherever the rows are defined
+            if base.free_symbols <= set(ctx.gens):
+                self._add(ctx.from_expr_symbolic(base), base, f"a factor of the scale of {owner}", True)
 
     def _add(self, p, readable, meaning, trivial) -> None:
         if not p or p.is_ground:

@@ -14,6 +14,7 @@ Two sets of configuration variables (``coordinates``):
 
 * ``"nodes"``: the node coordinates ``x_B, y_B (, z_B)``; a bar i-j is
   ``(+Δ at i, −Δ at j) / l`` with ``Δ = x_j − x_i`` (eq. A4 in space; A3 in the plane);
+  the fixed nodes of a model with a helical pair enter as their numbers (:func:`known_nodes`);
 * ``"angles"`` (planar): one angle ``theta_<link>`` per link (first node → second node);
   a bar is ``(+e(α) at i, −e(α) at j)`` with ``e(α) = (cos α, sin α)`` (eq. A3), and a
   pair of a body of 3+ nodes has ``α = theta_<body> + beta_<body>_<i>_<j>`` (fixed internal
@@ -46,7 +47,7 @@ from symkin.symbolic.symbols import (angle_symbol, coordinate_symbol, exact, exa
                                      length_symbol, offset_symbol, slide_symbol)
 from symkin.tolerances import DEFAULT
 
-__all__ = ["SymRow", "RowBuilder", "COORDINATES"]
+__all__ = ["SymRow", "RowBuilder", "COORDINATES", "known_nodes"]
 
 COORDINATES = ("nodes", "angles")
 
@@ -133,6 +134,35 @@ def _combine(rows: list[SymRow], weights: list[sp.Expr], owner: str, element: st
     return SymRow(owner, element, blocks, common * extra_scale)
 
 
+def known_nodes(mech: Mechanism) -> frozenset:
+    """The nodes whose coordinates enter the symbolic rows as numbers instead of symbols.
+
+    The fixed nodes of a model with a constraint whose position equation is not polynomial
+    (a helical pair H, :mod:`symkin.constraints.helical`).  Its row is written over a common
+    scale of degree 10 in the guide's axis nodes, which are fixed nodes when the screw turns
+    about a fixed axis (the screw jack); with them as symbols an entry expands to 65,000
+    terms of degree 11 in 16 symbols and no condition is derived, with their values (the
+    exact numbers of :func:`~symkin.symbolic.symbols.exact`) the conditions of the screw
+    jack take a second.  Fixed nodes never move, so the conditions are the same functions
+    of the configuration.  Every other model keeps a symbol per node, fixed ones included,
+    so that its conditions are unchanged (and stay comparable with the polynomial closure
+    of :mod:`symkin.symbolic.loci`, which takes the pivots snapped).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+
+    Returns
+    -------
+    frozenset of str
+        Names of the nodes given by their values (empty for a model of polynomial constraints).
+    """
+    if all(c.polynomial for c in constraints_of(mech)):
+        return frozenset()
+    return frozenset(mech.fixed)
+
+
 class RowBuilder:
     """Builds the symbolic rows of one mechanism in one set of coordinates.
 
@@ -163,9 +193,13 @@ class RowBuilder:
         self.design_exact: dict[sp.Symbol, sp.Expr] = {}
         self.angle_like: list[sp.Symbol] = []  # symbols that appear inside cos/sin
         self._links = dict(mech.links)
+        self.known = known_nodes(mech) if self.mode == "nodes" else frozenset()
         if self.mode == "nodes":
             self.coord = {}
             for n in mech.node_names:
+                if n in self.known:  # a fixed node given by its numbers (known_nodes)
+                    self.coord[n] = tuple(exact(v) for v in self.x[self.index[n]])
+                    continue
                 syms = tuple(coordinate_symbol(AXES[a], n) for a in range(self.dim))
                 self.coord[n] = syms
                 for a, s in enumerate(syms):
