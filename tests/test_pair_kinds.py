@@ -319,7 +319,9 @@ LETTER = re.compile(r"""^[rRbBuUfF]*(['"])H\1$""")
 DOC_MENTIONS = {
     "symkin/numeric/geometric_matrix.py": (2, "the module docstring lists the rows the core assembles"),
     "symkin/numeric/casadi_model.py": (2, "the module docstring lists the rows the CasADi model states"),
-    "symkin/symbolic/rows.py": (1, "the module docstring lists the rows the symbolic model states"),
+    "symkin/symbolic/rows.py": (3, "the module docstring lists the rows the symbolic model states; known_nodes "
+                                   "names its measured example (the screw jack) and that example's test"),
+    "symkin/symbolic/polynomials.py": (1, "constant_rows' docstring names the test of its measured example"),
     "symkin/curves/tracer.py": (1, "the docstring of the closed-curve test gives a screw's path as its example"),
 }
 #: code that spells the letter H for something else, and what

@@ -164,7 +164,7 @@ def _im_condition(sm) -> Condition:
                 return sum_of_squares_condition(sm, Kind.IM, (), reduced, r, note, t0)
             return gram_condition(sm, Kind.IM, (), reduced, note, t0)
         elif (math.comb(len(rows), r) * math.comb(n, r) > MAX_MINORS >= math.comb(len(reduced), r) * math.comb(n, r)
-              and len(independent_constant_rows(sm, rows)) < len(rows)):  # the screw jack: its P repeats its H
+              and len(independent_constant_rows(sm, rows)) < len(rows)):  # e.g. two pairs holding a node on one fixed axis
             note = (f"e_{r} of the reduced equation's G = Σ (maximal minors)², each body reduced to independent rows "
                     f"and repeated constant rows dropped ({len(rows) - len(reduced)}); zero exactly where L > F = {f}")
             return sum_of_squares_condition(sm, Kind.IM, (), reduced, r, note, t0)

@@ -99,8 +99,8 @@ class PolyContext:
     @staticmethod
     def _nodal(entries: list) -> tuple[dict, set]:
         """Nodal entries as polynomials, built by sparse ring arithmetic (``ring.from_expr`` of the
-        unexpanded entry; ``sympy.expand`` of a helical pair's entry, degree 11 in 16 symbols,
-        does not finish), with the symbols they use.  The ring is the one of every symbol
+        unexpanded entry; ``sympy.expand`` of an entry of degree 11 in 16 symbols, as a pair kind's
+        own row can give, does not finish), with the symbols they use.  The ring is the one of every symbol
         written; the symbols that cancel are left out of the returned set, as an expansion would."""
         candidates = sorted(set().union(*(e.free_symbols for e in entries)), key=lambda s: s.name)
         wide, *_ = ring(candidates or [sp.Dummy("one")], QQ)
@@ -177,8 +177,8 @@ def independent_constant_rows(sm, rows: list[SymRow]) -> list[SymRow]:
     every configuration, so a dependency among them holds everywhere: dropping such a row
     keeps the solutions of the velocity equation and the zero set of its maximal minors at
     every configuration.  The rank is exact (sympy, design symbols substituted unless the
-    model keeps them, then generic in them).  The screw jack holds its nut's axis nodes on
-    the screw's axis twice (the H's sliders and the P's), four repeated rows.
+    model keeps them, then generic in them).  Two pairs that hold the same nodes on one fixed
+    axis repeat rows (four in the screw jack of tests/symbolic/test_helical_conditions.py).
 
     Parameters
     ----------
@@ -215,10 +215,9 @@ def scale_factors(sm) -> list[tuple[sp.Expr, str]]:
 
     A row is its polynomial part over a scale that is nonzero wherever the row is defined
     (:mod:`symkin.symbolic.rows`); a factor of a condition equal to a factor of a scale is
-    therefore never zero on the mechanism.  The helical pair's row is written over
-    ``l·l²·|E × r|²·|E × g|²`` (:mod:`symkin.constraints.helical`): ``|E × r|²`` is the
-    squared distance of the runner's arm from the axis, times ``l²``, constant as the
-    mechanism moves, and it divides the minors in which the row enters through the guide.
+    therefore never zero on the mechanism (a pair kind's row written over the squared
+    distance of an arm from its axis, say, which is constant as the mechanism moves and
+    divides the minors in which the row enters).
     Radicals (the norms of a spatial slider's normals) are left out: they are not
     polynomials, and a normal's norm may vanish away from the model's configuration.
 

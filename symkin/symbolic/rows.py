@@ -14,7 +14,7 @@ Two sets of configuration variables (``coordinates``):
 
 * ``"nodes"``: the node coordinates ``x_B, y_B (, z_B)``; a bar i-j is
   ``(+Δ at i, −Δ at j) / l`` with ``Δ = x_j − x_i`` (eq. A4 in space; A3 in the plane);
-  the fixed nodes of a model with a helical pair enter as their numbers (:func:`known_nodes`);
+  the fixed nodes of a model with a non-polynomial constraint enter as their numbers (:func:`known_nodes`);
 * ``"angles"`` (planar): one angle ``theta_<link>`` per link (first node → second node);
   a bar is ``(+e(α) at i, −e(α) at j)`` with ``e(α) = (cos α, sin α)`` (eq. A3), and a
   pair of a body of 3+ nodes has ``α = theta_<body> + beta_<body>_<i>_<j>`` (fixed internal
@@ -138,12 +138,11 @@ def known_nodes(mech: Mechanism) -> frozenset:
     """The nodes whose coordinates enter the symbolic rows as numbers instead of symbols.
 
     The fixed nodes of a model with a constraint whose position equation is not polynomial
-    (a helical pair H, :mod:`symkin.constraints.helical`).  Its row is written over a common
-    scale of degree 10 in the guide's axis nodes, which are fixed nodes when the screw turns
-    about a fixed axis (the screw jack); with them as symbols an entry expands to 65,000
+    (:attr:`symkin.constraints.base.Constraint.polynomial` false).  Such a row can be written
+    over a common scale of high degree in fixed nodes (10 for the pair of the screw jack, turning
+    about a fixed axis: tests/symbolic/test_helical_conditions.py); with them as symbols an entry expands to 65,000
     terms of degree 11 in 16 symbols and no condition is derived, with their values (the
-    exact numbers of :func:`~symkin.symbolic.symbols.exact`) the conditions of the screw
-    jack take a second.  Fixed nodes never move, so the conditions are the same functions
+    exact numbers of :func:`~symkin.symbolic.symbols.exact`) its conditions take a second.  Fixed nodes never move, so the conditions are the same functions
     of the configuration.  Every other model keeps a symbol per node, fixed ones included,
     so that its conditions are unchanged (and stay comparable with the polynomial closure
     of :mod:`symkin.symbolic.loci`, which takes the pivots snapped).
