@@ -93,6 +93,14 @@ class Constraint:
 
         raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide rate (a 'slide' rate needs a line)")
 
+    def slide_equation(self, alg, X) -> "Equation":
+        """The slide along the constraint's line as ``numerator / denominator`` (model units): a slider on a
+        line states it (the loci's slide coordinates); other kinds raise
+        :class:`~symkin.errors.SymkinError` naming the constraint."""
+        from symkin.errors import SymkinError
+
+        raise SymkinError(f"{self.owner}: a {self.kind} constraint has no slide (a slide needs a line)")
+
     def slide_polynomial(self, X, X0, value):
         """The polynomial equation of a prescribed slide (``value`` from the model's): a slider on a
         line states it; other kinds raise :class:`~symkin.errors.SymkinError` naming the constraint."""

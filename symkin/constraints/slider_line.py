@@ -50,9 +50,14 @@ class SliderLine(Constraint):
 
     def slide(self, alg, X):
         """The slide of the node along the line, from the slider's point (model units)."""
+        eq = self.slide_equation(alg, X)
+        return eq.numerator / eq.denominator
+
+    def slide_equation(self, alg, X) -> Equation:
+        """The slide as ``(x_P − p)·d`` over ``|d|``."""
         d = self._vector(alg, "direction", self.slider.direction)
         point = self._vector(alg, "point", self.slider.point)
-        return dot(sub(X[self.p], point), d) / alg.norm(d)
+        return Equation(dot(sub(X[self.p], point), d), alg.norm(d))
 
     def rate_rows(self, alg, X, X0) -> list[Row]:
         """The slide rate ``d·ẋ_P / |d|``: the unit direction at P (exact algebras: ``d`` over ``|d|``)."""

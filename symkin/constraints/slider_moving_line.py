@@ -58,6 +58,13 @@ class SliderMovingLine(Constraint):
         e = sub(X[self.c], X[self.a])
         return dot(sub(X[self.p], X[self.a]), e) / alg.norm(e)
 
+    def slide_equation(self, alg, X) -> Equation:
+        """The slide as ``(x_P − x_A)·e`` over the pair's length (``alg.pair_length``: a rigid
+        length where the algebra knows it, the loci's snapped one)."""
+        s = self.slider
+        e = sub(X[self.c], X[self.a])
+        return Equation(dot(sub(X[self.p], X[self.a]), e), alg.pair_length(s.link, s.line[0], s.line[1], e))
+
     def rate_rows(self, alg, X, X0) -> list[Row]:
         """The slide rate of P along the line, relative to the line's rigid motion (module docstring)."""
         e = sub(X[self.c], X[self.a])

@@ -356,9 +356,7 @@ def _build(mech: Mechanism, snap: ModelSnap | None = None) -> _System:
             at = dict(zip(body.names, body.idx))
             eqs += [(q, f"link {name} (node {m} in its frame)") for q in body.frame_equations(
                 {at[n]: coord[n] for n in ns}, [at[n0], at[n1]] + ([at[off]] if len(basis) == 3 else []), at[m], coef)]
-    alg = Sympy(point_hook=lambda v, what: tuple(snap.number(c, f"coordinate {AXES[a]} of the {what}")
-                                                   for a, c in enumerate(v)),
-                direction_hook=lambda v, what: _snapped_vector(snap, v, what))
+    alg = _algebra(snap, x0)
     X = [coord[n] for n in mech.node_names]
     X0 = [tuple(map(float, c)) for _, c in mech.nodes]
     for con in slider_constraints(mech):  # the sliders' polynomial equations (symkin.constraints)
@@ -375,24 +373,23 @@ def _distance(mech: Mechanism, coord: dict, snap: ModelSnap, link: str, p: str, 
     return bar.polynomial(alg, {bar.i: coord[p], bar.j: coord[q]}, {bar.i: None, bar.j: None})
 
 
+def _algebra(snap: ModelSnap, x0: dict) -> Sympy:
+    """The sympy algebra of the closure's constraints: points and directions snapped, a rigid pair's
+    length its snapped length (exact: a rational square root, else a :class:`LociError`)."""
+    def length(link, a, b, _d):
+        square = snap.squared_length(link, a, b) if link else _dot(_sub(x0[b], x0[a]), _sub(x0[b], x0[a]))
+        return _sqrt_rational(square, f"the length of {a}-{b}" + (f" (link {link})" if link else ""))
+
+    return Sympy(point_hook=lambda v, what: tuple(snap.number(c, f"coordinate {AXES[a]} of the {what}")
+                                                  for a, c in enumerate(v)),
+                 direction_hook=lambda v, what: _snapped_vector(snap, v, what), length_hook=length)
+
+
 def _snapped_vector(snap: ModelSnap, vec, what: str) -> tuple:
     """A direction or normal (``what``: "direction of slider s"), snapped relative to its norm."""
     which, _, rest = what.partition(" ")
     norm = math.sqrt(sum(float(v) ** 2 for v in vec))
     return tuple(snap.number(v, f"{which} {AXES[a]} {rest}", snap.mech.length_scale / norm) for a, v in enumerate(vec))
-
-
-def _slider_point(snap: ModelSnap, s, x0) -> tuple:
-    if s.point is None:
-        return x0[s.node]
-    return tuple(snap.number(v, f"coordinate {AXES[a]} of the point of slider {s.id}") for a, v in enumerate(s.point))
-
-
-def _slider_vector(snap: ModelSnap, s, vec, what: str) -> tuple:
-    """A slider's direction or normal, snapped relative to its norm (it only gives a direction)."""
-    norm = math.sqrt(sum(float(v) ** 2 for v in vec))
-    return tuple(snap.number(v, f"{what} {AXES[a]} of slider {s.id}", snap.mech.length_scale / norm)
-                 for a, v in enumerate(vec))
 
 
 # ====================================================================== variables and holds
@@ -441,27 +438,18 @@ def _coordinate_equations(sys: _System, c: CoordinateLabel, value, hold: bool) -
         t = value  # the direction fixes the link's vector: its distance equation is implied
         sys.equations = [(eq, o) for eq, o in sys.equations if o != f"link {link} ({ns[0]}-{ns[1]})"]
         return [(e[0] * (1 + t ** 2) - ll * (1 - t ** 2), owner), (e[1] * (1 + t ** 2) - 2 * ll * t, owner)]
-    if p.kind == "slide":
-        s = mech.slider(p.target[0])
-        if isinstance(slider_constraint(mech, s.id), SliderMovingLine):
-            a, b = s.line
-            e = _sub(sys.coord[b], sys.coord[a])
-            e0 = _sub(sys.x0[b], sys.x0[a])
-            along = _dot(_sub(sys.coord[s.node], sys.coord[a]), e)
-            ll = _sqrt_rational(sys.snap.squared_length(s.link, a, b) if s.link else _dot(e0, e0),
-                                f"{c.label} (line {a}-{b})")
-            if value is None:
-                value = sys.snap.number(float(_dot(_sub(sys.x0[s.node], sys.x0[a]), e0) / ll), f"held value of {c.label}")
-            return [(along - ll * (value if isinstance(value, sp.Basic) else _q(value)), owner)]
-        if s.direction is None:
-            raise LociError(f"{c.label}: slider {s.id} lies on a plane; a slide needs a line")
-        d = _slider_vector(sys.snap, s, s.direction, "direction")
-        dl = _sqrt_rational(_dot(d, d), f"{c.label} (direction of slider {s.id})")
-        point = _slider_point(sys.snap, s, sys.x0)
-        if value is None:
-            value = _dot(_sub(sys.x0[s.node], point), d) / dl
-        return [(_dot(_sub(sys.coord[s.node], point), d) - dl * (value if isinstance(value, sp.Basic) else _q(value)),
-                 owner)]
+    if p.kind == "slide":  # the slider's own slide (symkin.constraints: slide_equation), exact
+        con = slider_constraint(mech, p.target[0])
+        alg = _algebra(sys.snap, sys.x0)
+        try:
+            eq = con.slide_equation(alg, [sys.coord[n] for n in mech.node_names])
+            at_model = con.slide_equation(alg, [sys.x0[n] for n in mech.node_names])
+        except SymkinError as exc:
+            raise LociError(f"{c.label}: {exc}") from None
+        scale = _sqrt_rational(eq.denominator ** 2, f"{c.label} ({con.owner})")
+        if value is None:  # the model's slide (snapped, as a held node coordinate is)
+            value = sys.snap.number(float(at_model.numerator / scale), f"held value of {c.label}")
+        return [(eq.numerator - scale * (value if isinstance(value, sp.Basic) else _q(value)), owner)]
     raise LociError(f"{c.label}: only node coordinates, planar rotations and slides can be held or used as "
                     "locus variables here")
 

@@ -103,3 +103,31 @@ def test_slide_polynomial_vanishes_at_the_prescribed_slide(name):
             assert con.slide(FLOATS, X) - s0 == pytest.approx(value, abs=1e-12 * mech.length_scale)
             assert con.slide_polynomial(X, X0, value) == pytest.approx(0.0, abs=1e-12 * mech.length_scale ** 2)
             assert abs(con.slide_polynomial(X, X0, value + 0.1 * mech.length_scale)) > 1e-3 * mech.length_scale ** 1
+
+
+@pytest.mark.parametrize("name", list(MODELS))
+def test_slide_equation_is_the_slide_in_every_algebra(name):
+    """``slide_equation`` (the loci's slide coordinate) is the slide: its numerator over its scale
+    equals the projection on the line (numpy, written here) at random configurations, as floats and
+    as exact sympy expressions; a slider on a plane has none (a SymkinError naming it)."""
+    mech = MODELS[name]()
+    n, dim = len(mech.nodes), mech.dim
+    for x in _random_configurations(mech, 3, seed=7):
+        x = np.asarray(x, float).reshape(n, dim)
+        X = [tuple(map(float, r)) for r in x]
+        for con in _sliders(mech):
+            if con.kind == "slider_plane":
+                with pytest.raises(SymkinError, match=con.owner):
+                    con.slide_equation(FLOATS, X)
+                continue
+            s = con.slider
+            if isinstance(con, SliderMovingLine):
+                e = x[con.c] - x[con.a]
+                truth = (x[con.p] - x[con.a]) @ e / np.linalg.norm(e)
+            else:
+                d = np.array(s.direction, float)
+                truth = (x[con.p] - np.array(s.point, float)) @ d / np.linalg.norm(d)
+            eq = con.slide_equation(FLOATS, X)
+            assert eq.numerator / eq.denominator == pytest.approx(truth, abs=1e-12 * mech.length_scale)
+            exact = con.slide_equation(Sympy(), [tuple(sp.Rational(v) for v in r) for r in X])
+            assert float(exact.numerator / exact.denominator) == pytest.approx(truth, abs=1e-12 * mech.length_scale)
