@@ -152,7 +152,7 @@ def compile_helical(b, joint) -> None:
 
 
 register_joint(JointKind(
-    "H", (3,), compile_helical, axis=(3,), motions=("rotation",), title="a helical joint H",
+    "H", (3,), compile_helical, axis=(3,), motions=("rotation",), title="a helical joint H", block=True,
     keys=(JointKey("pitch", needs="the advance per radian, in model length units",
                    must="a finite number (advance per radian, model length units)"),)))
 

@@ -677,11 +677,11 @@ def _keyed(b: _Builder, j: Joint) -> None:
         _key(b, j)
 
 
-for _kind in (JointKind("R", (2, 3), _revolute, axis=(3,), motions=("rotation",)),
-              JointKind("P", (2, 3), _Builder.line, axis=(2, 3), motions=("slide",), finish=_keyed),
+for _kind in (JointKind("R", (2, 3), _revolute, axis=(3,), motions=("rotation",), axes=("axis",)),
+              JointKind("P", (2, 3), _Builder.line, axis=(2, 3), motions=("slide",), finish=_keyed, block=True),
               JointKind("C", (3,), _Builder.line, axis=(3,), motions=("rotation", "slide"),
-                        choice=("motion", ("rotation", "slide"))),
+                        choice=("motion", ("rotation", "slide")), block=True),
               JointKind("U", (3,), _universal, axis=(3,), axis2=True, motions=("1", "2"), choice=("axis", (1, 2)),
-                        check=_perpendicular, rate_links=_u_rate_links),
+                        check=_perpendicular, rate_links=_u_rate_links, axes=("axis", "axis2")),
               JointKind("S", (3,), _point, article="an")):
     register_joint(_kind)

@@ -111,6 +111,12 @@ class JointKind:
         How messages name the kind (default ``"a <type> joint"``).
     article : str
         ``"a"`` or ``"an"`` before the letter (``"an S"``).
+    block : bool
+        How plots draw it: the runner's node as a block on the joint's line (the slider named
+        after the joint) and the leg whole along that line (P, C, H).
+    axes : tuple of str
+        How plots draw it in space: a short axis through the joint's centre towards each added
+        node ``<id>.<suffix>`` listed (R: ``("axis",)``; U: ``("axis", "axis2")``).
     """
 
     type: str
@@ -126,6 +132,8 @@ class JointKind:
     rate_links: Callable[[Any, str], tuple] | None = None
     title: str = ""
     article: str = "a"
+    block: bool = False
+    axes: tuple[str, ...] = ()
 
     @property
     def name(self) -> str:

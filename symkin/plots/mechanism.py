@@ -19,6 +19,7 @@ from symkin.analysis.classification import Motion
 from symkin.analysis.motion_space import MotionSpace, motion_space
 from symkin.errors import SymkinError
 from symkin.model.mechanism import Mechanism
+from symkin.model.pairs import joint_kind
 from symkin.tolerances import DEFAULT
 
 __all__ = ["draw_mechanism", "draw_leg_lines", "added_nodes"]
@@ -472,7 +473,7 @@ class _JointView:
         self.fixed = set(mech.fixed)
         self.lines = {}  # joint id -> (point, unit direction, slider)
         for j in mech.joints:
-            if j.type not in ("P", "C"):
+            if not joint_kind(j.type).block:  # drawn as a block on its line (symkin.model.pairs.JointKind)
                 continue
             try:
                 s = mech.slider(j.id)
@@ -552,8 +553,9 @@ class _JointView:
             return out
         half = 0.12 * extent
         for j in self.mech.joints:
-            ends = {"R": ((f"{j.id}.axis", f"axis:{j.id}"),),
-                    "U": ((f"{j.id}.axis", f"axis:{j.id}.1"), (f"{j.id}.axis2", f"axis:{j.id}.2"))}.get(j.type, ())
+            axes = joint_kind(j.type).axes  # the added nodes its drawn axes point to
+            ends = tuple((f"{j.id}.{a}", f"axis:{j.id}" if len(axes) == 1 else f"axis:{j.id}.{k + 1}")
+                         for k, a in enumerate(axes))
             centre = self._centre(j) if ends else None
             if centre is None:
                 continue

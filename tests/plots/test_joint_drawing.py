@@ -126,3 +126,21 @@ def test_traces_leave_out_the_added_nodes():
     gids = {str(line.get_gid()) for line in plot_traces(path).lines}
     assert {"trace:B", "trace:C"} <= gids
     assert not any(g.startswith("trace:") and "." in g for g in gids)    # no trace:B.axis, trace:C.axis
+
+
+def test_drawing_follows_the_joint_kind_screw_jack():
+    """How a joint is drawn is its kind's (symkin.model.pairs.JointKind: ``block``, ``axes``): the
+    screw jack's H nut is a block on the screw's axis (like its P), its R an axis along z."""
+    from pathlib import Path
+
+    from symkin.model.pairs import joint_kind
+
+    m = symkin.read_model(Path(__file__).resolve().parents[1] / "constraints" / "models" / "screw_jack.toml")
+    lines = _lines(draw_mechanism(m))
+    x = dict(m.nodes)
+    assert joint_kind("H").block and joint_kind("P").block and joint_kind("R").axes == ("axis",)
+    assert np.allclose(lines["slider:H1"], [x[m.slider("H1").node]])
+    seg = lines["axis:R1"]
+    assert np.allclose(seg.mean(axis=0), x["R1"])
+    assert np.linalg.norm(np.cross(seg[1] - seg[0], [0.0, 0.0, 1.0])) < 1e-9 * np.linalg.norm(seg[1] - seg[0])
+    assert not any(g.startswith("axis:H1") for g in lines)               # H has no axes of its own listed
