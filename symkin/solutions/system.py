@@ -492,14 +492,20 @@ def leg_reduced_equations(mech: Mechanism, values: dict, unit: str = "rad", tol:
     b = SystemBuilder(mech, tol)
     owned, keep_u, legs = _leg_reduced(b, mech, prescribed, reduce_values=False)
     kept = [b.u.index(s) for s in keep_u]
+    recover = _leg_recovery(b, mech, legs, kept)
 
+    return kept, tuple(owned), recover
+
+
+def _leg_recovery(b, mech: Mechanism, legs, kept: list):
+    """``recover(v)``: the full ``u`` from the kept unknowns' values ``v``, the reduced legs' bars placed."""
     def recover(v):
         v = np.asarray(v)
         u = np.zeros(len(b.u), dtype=v.dtype)
         u[kept] = v
         return _place_bars(b, mech, legs, u, v.dtype)
 
-    return kept, tuple(owned), recover
+    return recover
 
 
 @dataclass(frozen=True, eq=False)
@@ -553,12 +559,7 @@ def value_equations(mech: Mechanism, values: dict, unit: str = "rad", tol: Toler
     original, filters = tuple(b.equations), tuple(b.filters)
     owned, keep_u, legs = _leg_reduced(b, mech, prescribed, reduce_values=False, fixed=False)
     kept = [b.u.index(s) for s in keep_u]
-
-    def recover(v):
-        v = np.asarray(v)
-        u = np.zeros(len(b.u), dtype=v.dtype)
-        u[kept] = v
-        return _place_bars(b, mech, legs, u, v.dtype)
+    recover = _leg_recovery(b, mech, legs, kept)
 
     return ValueEquations(tuple(b.u), b.center, b.scale, original, filters, tuple(owned), tuple(kept),
                           tuple(f"{leg[0].id}:{leg[1]}" for leg in legs), recover)

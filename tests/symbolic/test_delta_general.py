@@ -17,7 +17,6 @@ import random
 import sys
 from pathlib import Path
 
-import mpmath
 import numpy as np
 import pytest
 import sympy as sp
@@ -36,7 +35,7 @@ from symkin.symbolic.pose_loci import (
     translation_slice,
 )
 from symkin.tolerances import Tolerances
-from tests.symbolic.test_spatial_loci import delta_mode_dets
+from tests.symbolic.test_spatial_loci import delta_mode_dets, mode_sign_changes_on_polynomial
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "workspace"))
@@ -144,29 +143,8 @@ def test_general_delta_roots_are_a_working_modes_coplanar_bars(general):
 def test_general_delta_locus_contains_every_working_modes_curve(general):
     """Each sign change of a mode's det along x = const (bisected, by geometry) is one of the polynomial."""
     mech, poly, _ = general
-    f = sp.lambdify((XP, YP), poly, "mpmath")
-    found = 0
-    for xv in map(float, LINES):
-        ys = np.linspace(-1.6, 1.6, 161)
-        vals = [delta_mode_dets(mech, xv, y, Z) for y in ys]
-        for k in range(len(ys) - 1):
-            if vals[k] is None or vals[k + 1] is None:
-                continue
-            for mode in range(8):
-                if vals[k][mode] * vals[k + 1][mode] >= 0:
-                    continue
-                lo, hi = ys[k], ys[k + 1]
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    v = delta_mode_dets(mech, xv, mid, Z)
-                    if v is None:
-                        break
-                    lo, hi = (lo, mid) if v[mode] * vals[k][mode] < 0 else (mid, hi)
-                y0, h = mpmath.mpf(0.5 * (lo + hi)), mpmath.mpf(1e-9)
-                with mpmath.workdps(1200):
-                    assert f(mpmath.mpf(xv), y0 - h) * f(mpmath.mpf(xv), y0 + h) < 0, (xv, float(y0), mode)
-                found += 1
-    assert found >= 8
+    assert mode_sign_changes_on_polynomial(mech, poly, tuple(map(float, LINES)), np.linspace(-1.6, 1.6, 161), Z,
+                                           1e-9, 1200) >= 8
 
 
 def test_general_delta_locus_in_mm_is_the_metre_locus_scaled():

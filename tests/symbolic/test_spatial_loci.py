@@ -277,15 +277,15 @@ def test_delta_type2_locus_at_constant_height_is_the_bars_coplanarity_of_some_wo
     assert checked >= 6 and off >= 3
 
 
-def test_delta_type2_locus_contains_every_working_modes_curve(delta_locus):
-    """Where a mode's det changes sign along x = const (bisected, by geometry), the polynomial changes sign too."""
-    mech, loci = delta_locus
-    f = sp.lambdify((XP, YP), loci[Kind.DKP_INPUT].factors[0].polynomial, "mpmath")
+def mode_sign_changes_on_polynomial(mech, poly, lines, ys, z, h: float, dps: int) -> int:
+    """How many sign changes of a working mode's det along the lines ``x = const`` (bisected, by
+    geometry) there are; each is asserted to be a sign change of ``poly`` (at ``y0 ± h``, ``dps`` digits)."""
     import mpmath
+
+    f = sp.lambdify((XP, YP), poly, "mpmath")
     found = 0
-    for xv in (-0.3, 0.1, 0.35):
-        ys = np.linspace(-1.2, 1.2, 241)
-        vals = [delta_mode_dets(mech, xv, y, DELTA_Z) for y in ys]
+    for xv in lines:
+        vals = [delta_mode_dets(mech, xv, y, z) for y in ys]
         for k in range(len(ys) - 1):
             if vals[k] is None or vals[k + 1] is None:
                 continue
@@ -295,15 +295,23 @@ def test_delta_type2_locus_contains_every_working_modes_curve(delta_locus):
                 lo, hi = ys[k], ys[k + 1]
                 for _ in range(60):
                     mid = 0.5 * (lo + hi)
-                    v = delta_mode_dets(mech, xv, mid, DELTA_Z)
+                    v = delta_mode_dets(mech, xv, mid, z)
                     if v is None:
                         break
                     lo, hi = (lo, mid) if v[mode] * vals[k][mode] < 0 else (mid, hi)
-                y0, h = mpmath.mpf(0.5 * (lo + hi)), mpmath.mpf(1e-7)
-                with mpmath.workdps(60):
+                y0 = mpmath.mpf(0.5 * (lo + hi))
+                with mpmath.workdps(dps):
                     assert f(mpmath.mpf(xv), y0 - h) * f(mpmath.mpf(xv), y0 + h) < 0, (xv, float(y0), mode)
                 found += 1
-    assert found >= 8
+    return found
+
+
+def test_delta_type2_locus_contains_every_working_modes_curve(delta_locus):
+    """Where a mode's det changes sign along x = const (bisected, by geometry), the polynomial changes sign too."""
+    mech, loci = delta_locus
+    poly = loci[Kind.DKP_INPUT].factors[0].polynomial
+    assert mode_sign_changes_on_polynomial(mech, poly, (-0.3, 0.1, 0.35), np.linspace(-1.2, 1.2, 241), DELTA_Z,
+                                           1e-7, 60) >= 8
 
 
 def test_delta_type2_locus_in_mm_is_the_metre_locus_scaled():
