@@ -137,8 +137,9 @@ class Tolerances:
         where its least singular value falls below ``row_switch`` times the least nonzero
         singular value of the whole set (a mechanism with redundant rows: a fixed subset
         loses rank where the whole set does not), the test's sign carried across the switch
-        (default ``0.1``: a subset chosen by pivoted QR starts well above it, and the switch
-        comes a decade before the subset's own rank loss, where its sign is still well defined).
+        (default ``0.1``: a subset chosen by pivoted QR starts well above it; the signs of the
+        two subsets are compared where the old one was last above it, since a continuation
+        step may pass the old subset's own rank loss, where its sign flips).
     """
 
     rank: float = 1e-8

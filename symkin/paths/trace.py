@@ -26,6 +26,11 @@ classifies the events.  The event types:
   event at the same configuration (kinds in the order IM, DKP-input, DKP-output, LIM);
 * ``end`` — the input reaches the requested value.
 
+The row subsets of the signed DKP and bifurcation tests (``J_S``, the rows kept of ``J_H``)
+are chosen anew where they lose rank relative to all the rows (redundant rows: the Bennett
+loop), their sign carried across the change (``Tolerances.row_switch``): a sign change is a
+zero of the test, never a change of rows.
+
 The DKP and IM tests, and the indicators recorded at every point, are values of the one
 definition in :mod:`symkin.analysis.indicators`, on the rows of the mechanism's evaluators
 (so ``ev.batch`` and :func:`symkin.analyze` give the same numbers at the same
@@ -430,8 +435,8 @@ class _PointIndicators:
         js = jf[list(self.js_rows)]
         count = js.shape[0]
         tol = self.tolerances
-        if count == 0 or s.size < count or s[count - 1] <= tol.near_branch * s[0]:
-            return js
+        if count in (0, jf.shape[0]) or s.size < count or s[count - 1] <= tol.near_branch * s[0]:
+            return js  # no rows, or all of them (no other choice), or next to IM
         if np.linalg.svd(js, compute_uv=False)[-1] >= tol.row_switch * s[count - 1]:
             self._good = (jf, v, s[count - 1])
             return js
@@ -500,7 +505,7 @@ class _BranchTest:
         jh = self.curve.jacobian(y)
         d = float(np.linalg.det(np.vstack([jh[self.rows], t[None, :]])))
         count, tol = jh.shape[1] - 1, self.tolerances
-        if len(self.rows) != count or count == 0:
+        if len(self.rows) != count or count in (0, jh.shape[0]):
             return self.sign * d
         s = np.linalg.svd(jh, compute_uv=False)
         if s.size < count or s[count - 1] <= tol.near_branch * s[0]:
