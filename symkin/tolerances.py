@@ -131,6 +131,15 @@ class Tolerances:
         rank threshold to decide a configuration alone (:mod:`symkin.analysis.batch`,
         default ``100``: well beyond the kernel's rounding, so kernel and SVD never
         disagree on a configuration the kernel decides).
+    row_switch : float
+        Along a traced curve (:func:`symkin.trace`), a subset of rows that a signed test keeps
+        (``J_S`` of the DKP values, the rows of the bifurcation determinant) is chosen anew
+        where its least singular value falls below ``row_switch`` times the least nonzero
+        singular value of the whole set (a mechanism with redundant rows: a fixed subset
+        loses rank where the whole set does not), the test's sign carried across the switch
+        (default ``0.1``: a subset chosen by pivoted QR starts well above it; the signs of the
+        two subsets are compared where the old one was last above it, since a continuation
+        step may pass the old subset's own rank loss, where its sign flips).
     """
 
     rank: float = 1e-8
@@ -152,6 +161,7 @@ class Tolerances:
     minimum_xtol: float = 1e-13
     deflate_singular: float = 1e-7
     branch_step: float = 1e-15
+    row_switch: float = 0.1
 
     @property
     def event_threshold(self) -> float:

@@ -29,6 +29,9 @@ CASES = {source: mech for _, source, mech in cases()}
 FALLBACK = {"catalogue:slider_crank", "catalogue:rssr", "catalogue:bennett", "papers_examples/fig12_3rsr_b.toml"}
 #: a spatial model whose trace takes more than a minute
 SLOW = {"papers_examples/fig12_3rsr_b.toml"}
+#: redundant mechanisms whose turn has no singular configuration: no event located (the baseline's
+#: candidates there were sign changes of a row subset fixed at the start, test_event_baseline.py)
+NO_EVENTS = {"catalogue:bennett", "catalogue:double_parallelogram"}
 #: relations and self-stresses compared to this (absolute, on canonical coefficients)
 RELATION_TOL = 1e-10
 
@@ -72,7 +75,7 @@ def test_event_classification_equals_analyze(source):
         pytest.skip("the start is a branch point: no path (test_event_baseline.py)")
     assert curve_rows_cover(path.curve) == (source not in FALLBACK)
     located = [e for e in path.events if e.analysis is not None]
-    assert located
+    assert bool(located) == (source not in NO_EVENTS)
     for e in located:
         expected = analyze(mech.with_coordinates(e.coordinates), tol=None)
         _assert_same(e.analysis, expected)

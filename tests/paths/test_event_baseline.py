@@ -6,7 +6,7 @@ The curves use the generated corrector in-process (``generated="vm"``: the same 
 compiled C, see ``tests/numeric/test_artefact_cache.py``) so that the test session, whose
 artefact cache is empty, compiles nothing.
 
-Two results changed on purpose when the three singular-point locators became one
+Results changed on purpose when the three singular-point locators became one
 (:func:`symkin.curves.locate.locate_singular_point`: exact derivatives, deflation), listed in
 ``REFINED`` with the old error bound; there every baseline event other than IM is still
 found at the same input (to 1e-10, its kind among the event's kinds), and every IM event lies
@@ -15,10 +15,18 @@ within the bound of a baseline event:
 * the double butterfly's IM events are its tangent contacts T1, T2 with the LIM branch, where
   the old locator (no deflation) stopped ~1e-5 off and reported T1 twice; they are now T1 and
   T2 to rounding, checked against the elementary construction of ``test_vertex.py``;
-* the Bennett linkage's IM events are minima of its IM test that the curve's Jacobian does not
-  share (unconfirmed: no type); the old refinement (central-difference Hessian, a left null
-  vector of the redundant rows) moved them by up to 4e-4, now they stay where they were
-  located, and the one at the DKP-output event is the same configuration (one event).
+* (the Bennett linkage's unconfirmed IM events, which the old refinement moved by up to 4e-4,
+  were listed here too until they went with the other spurious candidates below).
+
+Two redundant mechanisms lost their baseline events on purpose, listed in ``SPURIOUS``: every
+one of them was classified as no singularity (types ``[]``) and none is located now.  They were
+sign changes of the signed tests' row subsets, which were fixed at the start and lost rank where
+the whole set of rows does not (``im_sigma`` stays above 0.2 on both paths); the subsets are now
+chosen anew there, the tests' signs carried (``Tolerances.row_switch``).  The double
+parallelogram's were at the inputs 116.565° and 296.565°, where its cranks lie along the line
+A-D of two of their pivots and the parallelogram A-B-C-D is flat, while the third crank E-F (E
+off that line) keeps the coupler determined; the Bennett's (no singular configuration on its
+turn) at ten inputs, see ``test_joint_form_paths.py``.
 
 An event met again on a later passage through the same configuration (same kind, input a
 whole number of turns after an earlier event's: ``fourbar_dead_centre`` starts at a dead centre
@@ -45,7 +53,10 @@ from .data.make_event_baseline import cases, events_of
 from .test_vertex import contact
 
 #: sources whose IM events the one singular-point locator moved on purpose: the old error bound (input)
-REFINED = {"catalogue:bennett": 4e-4, "papers_examples/double_butterfly.toml": 3e-5}
+REFINED = {"papers_examples/double_butterfly.toml": 3e-5}
+
+#: sources whose baseline events were all spurious candidates of a row subset fixed at the start (no type)
+SPURIOUS = {"catalogue:bennett", "catalogue:double_parallelogram"}
 
 BASELINE = json.loads((Path(__file__).parent / "data" / "event_baseline.json").read_text())
 CASES = {source: mech for _, source, mech in cases()}
@@ -78,6 +89,12 @@ def test_events_match_the_baseline(source):
     assert got.get("error") == expected.get("error")
     assert got.get("stop_reason") == expected.get("stop_reason")
     before, after = _comparable(expected.get("events", [])), _comparable(got.get("events", []))
+    if source in SPURIOUS:
+        singular = [e for e in before if e["kind"] != Kind.END]
+        assert singular and all(e["types"] == [] for e in singular)  # none of them was a singularity
+        assert [e["kind"] for e in after] == [Kind.END] == [e["kind"] for e in before if e not in singular]
+        assert after[0]["input"] == pytest.approx(before[-1]["input"], abs=1e-10)
+        return
     if source in REFINED:
         _check_refined(before, after, REFINED[source])
         return

@@ -20,9 +20,15 @@ from symkin.plots import plot_traces  # noqa: E402
 from symkin.plots.paths import COLUMN_WIDTH, path_figure  # noqa: E402
 
 
-@pytest.fixture(scope="module", params=["rssr", "bennett"])
+@pytest.fixture(scope="module", params=["rssr", "3-RPS"])
 def spatial_path(request):
-    return trace(symkin.catalogue.get(request.param), stop=360, unit="deg")
+    if request.param == "rssr":
+        return trace(symkin.catalogue.get(request.param), stop=360, unit="deg")
+    # the catalogue's other spatial 1-DOF loop, the Bennett, has no event on its turn: a 3-RPS with
+    # two slides held, slide 1 driven round its loop (tests/paths/test_joint_form_paths.py)
+    from tests.model import joint_forms as jf
+
+    return trace(symkin.Mechanism.from_dict(jf.rps_3_node(jf.rps_3_nodes(2.0, 0.2, -0.1))), "slide:s1", 0.0, -2.5)
 
 
 def _gap(box, dot) -> float:
