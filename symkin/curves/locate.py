@@ -346,7 +346,7 @@ def refine_singular(problem: CurveProblem, y: np.ndarray, t: np.ndarray, radius:
     and no less than at ``y``: on a family of singular configurations (e.g. the
     Peaucellier–Lipkin inversor with A = B) system (1) slides along the family away from the
     point the curve crosses, and where the curve's Jacobian keeps its generic rank (an
-    over-constrained linkage's IM test dipping without a branch point: the Bennett linkage)
+    over-constrained linkage's IM test dipping without a branch point)
     system (1) has no solution nearby and Newton wanders off.  ``radius`` bounds the move to a point of higher nullity
     (the length of the continuation step that bracketed the event).
     """
