@@ -407,7 +407,7 @@ class _PointIndicators:
     change of ``J_S``: where ``J_S`` loses rank relative to the whole ``J`` (its least
     singular value below ``tolerances.row_switch`` times ``σ_{nf−F}`` of ``J``, which
     happens only with redundant rows: the Bennett loop), it is chosen anew at that point
-    (:func:`~symkin.analysis.indicators.basis_rows`) and the signed DKP values keep their
+    (:func:`~symkin.analysis.indicators.basis_rows`, :class:`_RowSubset`) and the signed DKP values keep their
     sign there (``J_S`` and the new rows span the same row space: the values differ by
     the sign of their orientations, :func:`~symkin.analysis.indicators.basis_orientation`),
     so that they change sign only through zero.
@@ -417,42 +417,12 @@ class _PointIndicators:
         self.curve, self.tolerances = curve, tolerances
         self.f = curve.mech.mobility_value
         ev = curve.evaluators
-        self.js_rows = ev.basis_rows or indicators.basis_rows(curve.rows(y0)[0], self.f, tolerances)
-        self.js_sign = 1.0  # the sign carried across changes of J_S
-        self._good = None  # (J, V, σ_{nf−F}) where J_S was last well-conditioned
+        rows = ev.basis_rows or indicators.basis_rows(curve.rows(y0)[0], self.f, tolerances)
+        self.js = None if rows is None else _RowSubset(
+            rows, lambda jf: indicators.basis_rows(jf, self.f, tolerances),
+            lambda m, r, v: indicators.basis_orientation(m[list(r)], v), tolerances)
         self._y: np.ndarray | None = None
         self._values: dict = {}
-
-    def _basis(self, jf: np.ndarray, s: np.ndarray, v: np.ndarray) -> np.ndarray | None:
-        """``J_S`` at this point: the current rows, chosen anew where they lose rank relative to ``jf``.
-
-        ``s`` the singular values of ``jf`` (descending), ``v`` its F least-constrained right
-        singular vectors.  No change at or next to an IM configuration (``σ_{nf−F}`` of ``jf``
-        below ``near_branch · σ_max``), where ``J_S`` means nothing.
-        """
-        if self.js_rows is None:
-            return None
-        js = jf[list(self.js_rows)]
-        count = js.shape[0]
-        tol = self.tolerances
-        if count in (0, jf.shape[0]) or s.size < count or s[count - 1] <= tol.near_branch * s[0]:
-            return js  # no rows, or all of them (no other choice), or next to IM
-        if np.linalg.svd(js, compute_uv=False)[-1] >= tol.row_switch * s[count - 1]:
-            self._good = (jf, v, s[count - 1])
-            return js
-        rows = indicators.basis_rows(jf, self.f, tol)
-        if rows is None or rows == self.js_rows:
-            return js
-        new = jf[list(rows)]
-        # the orientations compared where the current rows were last well-conditioned (if the new rows are
-        # there too), else here: a step may pass the current rows' own rank loss, where their sign flips
-        at_jf, at_v, whole = self._good if self._good is not None else (jf, v, s[count - 1])
-        if np.linalg.svd(at_jf[list(rows)], compute_uv=False)[-1] < tol.row_switch * whole:
-            at_jf, at_v = jf, v
-        self.js_sign *= (indicators.basis_orientation(at_jf[list(self.js_rows)], at_v)
-                         * indicators.basis_orientation(at_jf[list(rows)], at_v))
-        self.js_rows, self._good = rows, None
-        return new
 
     def __call__(self, y: np.ndarray) -> dict:
         if self._y is not None and np.array_equal(self._y, y):
@@ -470,61 +440,88 @@ class _PointIndicators:
         values = {"im_indicator": float(indicators.im_indicator(s_full, f)) if f < nf else None,
                   "im_sigma": float(ascending[f]) if f < nf else math.inf}
         v = vt[nf - f:].T  # the F directions least constrained: the motion space where L = F
-        js = self._basis(jf, s, v)
+        js = None
+        if self.js is not None:
+            self.js.update(jf, v, s)
+            js = jf[list(self.js.rows)]
         for key, p in (("input", pin), ("output", pout)):
             k = p.shape[0]
             if k == 0:
                 continue
             p_hat = indicators.unit_rows(p)[0]
             sv = indicators.restricted_singular_values(p_hat, v)
-            sign = self.js_sign if (k == f and js is not None) else 1.0
+            sign = self.js.sign if (k == f and js is not None) else 1.0
             values[f"dkp_{key}"] = sign * float(indicators.dkp_value(p_hat, sv, f, js))
             values[f"sigma_{key}"] = float(sv[min(f, k) - 1]) if sv.size else 0.0  # the deciding one
         self._y, self._values = np.array(y, copy=True), values
         return values
 
 
+class _RowSubset:
+    """The rows a signed test keeps along a curve (``J_S``; the rows of ``J_H``), and the sign carried.
+
+    Where their least singular value falls below ``tolerances.row_switch`` times ``σ_count`` of
+    the whole matrix (``count`` the number of rows kept; not next to a rank drop of the whole:
+    ``σ_count`` at most ``near_branch · σ_max``), ``choose(matrix)`` gives them anew and
+    :attr:`sign` is multiplied by the product of the old and new rows' ``orientation(matrix,
+    rows, context)`` — taken where the old rows were last well-conditioned if the new ones are
+    too there, else here (a continuation step may pass the old rows' own rank loss, where their
+    sign flips) — so that the test changes sign only through zero.  Nothing changes where the
+    rows are all of them (no other choice) or an orientation is zero.
+    """
+
+    def __init__(self, rows, choose, orientation, tolerances: Tolerances):
+        self.rows, self.choose, self.orientation, self.tolerances = tuple(rows), choose, orientation, tolerances
+        self.sign = 1.0
+        self._good = None  # (matrix, context, σ_count) where the rows were last well-conditioned
+
+    def update(self, m: np.ndarray, context, s: np.ndarray | None = None) -> None:
+        """Check (and change) the rows at the matrix ``m`` here; ``s`` its singular values, descending."""
+        count, tol = len(self.rows), self.tolerances
+        if count in (0, m.shape[0]):
+            return
+        s = np.linalg.svd(m, compute_uv=False) if s is None else s
+        if s.size < count or s[count - 1] <= tol.near_branch * s[0]:
+            return
+        whole = s[count - 1]
+        if np.linalg.svd(m[list(self.rows)], compute_uv=False)[-1] >= tol.row_switch * whole:
+            self._good = (m, context, whole)
+            return
+        rows = self.choose(m)
+        if rows is None or len(rows) != count or tuple(rows) == self.rows:
+            return
+        at_m, at_c, at_whole = self._good if self._good is not None else (m, context, whole)
+        if np.linalg.svd(at_m[list(rows)], compute_uv=False)[-1] < tol.row_switch * at_whole:
+            at_m, at_c = m, context
+        before, after = self.orientation(at_m, self.rows, at_c), self.orientation(at_m, rows, at_c)
+        if before != 0.0 and after != 0.0:
+            self.sign *= math.copysign(1.0, before) * math.copysign(1.0, after)
+            self.rows, self._good = tuple(rows), None
+
+
+def _bifurcation_det(m: np.ndarray, rows, t: np.ndarray) -> float:
+    return float(np.linalg.det(np.vstack([m[list(rows)], t[None, :]])))
+
+
 class _BranchTest:
     """The bifurcation test ``det[J_H[rows]; tᵀ]`` (``n − 1`` independent rows of the augmented Jacobian).
 
-    The rows are chosen at ``y0`` (:func:`~symkin.numeric.linalg.independent_rows`) and
-    anew, as :class:`_PointIndicators` does with ``J_S``, where their least singular value
-    falls below ``tolerances.row_switch`` times ``σ_{n−1}`` of ``J_H`` (not next to a branch
-    point: ``σ_{n−1}`` at most ``near_branch · σ_max``); the sign is carried across the change
-    (both determinants are nonzero there), so the test changes sign only through zero.
+    The rows are chosen at ``y0`` (:func:`~symkin.numeric.linalg.independent_rows`) and anew
+    where they lose rank, the sign carried (:class:`_RowSubset`, as ``J_S`` of the DKP values).
     """
 
     def __init__(self, curve: MechanismCurve, y0: np.ndarray, tolerances: Tolerances):
         jh = curve.jacobian(y0)
-        self.curve, self.tolerances = curve, tolerances
-        self.rows = list(independent_rows(jh, tolerances.rank, jh.shape[1] - 1))
-        self.sign = 1.0
-        self._good = None  # (J_H, t, σ_{n−1}) where the rows were last well-conditioned
+        count = jh.shape[1] - 1
+        self.curve, self.count = curve, count
+        self.rows = _RowSubset(independent_rows(jh, tolerances.rank, count),
+                               lambda m: independent_rows(m, tolerances.rank, count), _bifurcation_det, tolerances)
 
     def __call__(self, y, t) -> float:
         jh = self.curve.jacobian(y)
-        d = float(np.linalg.det(np.vstack([jh[self.rows], t[None, :]])))
-        count, tol = jh.shape[1] - 1, self.tolerances
-        if len(self.rows) != count or count in (0, jh.shape[0]):
-            return self.sign * d
-        s = np.linalg.svd(jh, compute_uv=False)
-        if s.size < count or s[count - 1] <= tol.near_branch * s[0]:
-            return self.sign * d
-        if np.linalg.svd(jh[self.rows], compute_uv=False)[-1] >= tol.row_switch * s[count - 1]:
-            self._good = (jh, t, s[count - 1])
-            return self.sign * d
-        rows = list(independent_rows(jh, tol.rank, count))
-        if len(rows) != count or rows == self.rows:
-            return self.sign * d
-        new = float(np.linalg.det(np.vstack([jh[rows], t[None, :]])))
-        at_jh, at_t, whole = self._good if self._good is not None else (jh, t, s[count - 1])
-        if np.linalg.svd(at_jh[rows], compute_uv=False)[-1] < tol.row_switch * whole:
-            at_jh, at_t = jh, t
-        before, after = (float(np.linalg.det(np.vstack([at_jh[r], at_t[None, :]]))) for r in (self.rows, rows))
-        if before != 0.0 and after != 0.0:
-            self.sign *= math.copysign(1.0, before) * math.copysign(1.0, after)
-            self.rows, self._good, d = rows, None, new
-        return self.sign * d
+        if len(self.rows.rows) == self.count:
+            self.rows.update(jh, t)
+        return self.rows.sign * _bifurcation_det(jh, self.rows.rows, t)
 
 
 @dataclass(frozen=True)
