@@ -79,6 +79,7 @@ from symkin.symbolic.conditions import DerivationTimeout
 from symkin.symbolic.real_points import isolated_real_points
 from symkin.symbolic.snapping import ModelSnap, snap_model
 from symkin.symbolic.symbols import coordinate_symbol, exact, length_symbol, offset_symbol
+from symkin.symbolic.symbols import decimal_rational as _q
 from symkin.tolerances import Tolerances
 
 #: the lead of the list of accepted labels in a bad-label message
@@ -249,11 +250,6 @@ def _poll(limit) -> None:
 
 
 # ====================================================================== exact model data
-def _q(v: float) -> sp.Rational:
-    """The float ``v`` as the rational it denotes (its shortest decimal)."""
-    return sp.Rational(repr(float(v)))
-
-
 def _nodes_exact(mech: Mechanism, snap: ModelSnap) -> dict[str, tuple[sp.Rational, ...]]:
     """Pivots as snapped (:mod:`symkin.symbolic.snapping`), free nodes at their face value (used
     only to choose frames and to check the variables numerically, never in an equation)."""

@@ -84,14 +84,11 @@ from symkin.kinds import Kind
 from symkin.model.labels import CoordinateLabel, OrientationLabel
 from symkin.model.mechanism import AXES, Mechanism
 from symkin.symbolic.symbols import coordinate_symbol, length_symbol
+from symkin.symbolic.symbols import decimal_rational as _q
 from symkin.tolerances import Tolerances
 
 __all__ = ["ArmLeg", "PoseSlice", "constraint_condition", "eliminate_arms", "factor_list", "pose_condition", "pose_rows",
            "pose_slice", "translation_slice"]
-
-
-def _q(v: float) -> sp.Rational:
-    return sp.Rational(repr(float(v)))
 
 
 def _rotation(vector) -> list[list[float]]:

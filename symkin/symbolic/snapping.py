@@ -32,6 +32,7 @@ from fractions import Fraction
 import sympy as sp
 
 from symkin.model.mechanism import Mechanism
+from symkin.symbolic.symbols import decimal_rational
 from symkin.tolerances import Tolerances
 
 __all__ = ["simplest_rational", "Snap", "ModelSnap", "snap_model"]
@@ -116,7 +117,7 @@ class ModelSnap:
         """``value`` snapped within ``tolerance / scale``, reported in :attr:`snapped` when it changed."""
         tol = self.tolerance / scale
         out = simplest_rational(value, tol)
-        if out != sp.Rational(repr(float(value))) and all(s.what != what for s in self.snapped):
+        if out != decimal_rational(value) and all(s.what != what for s in self.snapped):
             self.snapped.append(Snap(what, float(value), out))
         return out
 
@@ -136,7 +137,7 @@ class ModelSnap:
         for previous, exact in self._seen:  # a length equal to one already snapped snaps to it
             if abs(previous - square) <= tol and abs(float(exact) - square) <= tol:
                 out = exact
-                if out != sp.Rational(repr(square)):
+                if out != decimal_rational(square):
                     self.snapped.append(Snap(what, square, out))
                 break
         else:

@@ -21,7 +21,12 @@ import math
 import sympy as sp
 
 __all__ = ["coordinate_symbol", "angle_symbol", "length_symbol", "offset_symbol", "slide_symbol",
-           "exact", "exact_angle"]
+           "exact", "exact_angle", "decimal_rational"]
+
+
+def decimal_rational(value: float) -> sp.Rational:
+    """The float ``value`` as the rational its shortest decimal denotes (``0.1 → 1/10``)."""
+    return sp.Rational(repr(float(value)))
 
 
 def coordinate_symbol(axis: str, node: str) -> sp.Symbol:
@@ -71,7 +76,7 @@ def exact(value: float) -> sp.Expr:
     value = float(value)
     if value == int(value) and abs(value) < 2 ** 53:
         return sp.Integer(int(value))
-    rational = sp.Rational(repr(value))
+    rational = decimal_rational(value)
     if rational.q <= 10 ** 6:
         return rational
     candidate = sp.nsimplify(value)
